@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Installs the Debian bookworm packages scanbus needs to build, test and run; does nothing
+# when they are all present. Needs root (or sudo).
+set -euo pipefail
+
+packages=(
+  cmake g++ make pkg-config git
+  libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
+  libpcl-dev libceres-dev libeigen3-dev
+  libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libcairo2-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  iproute2 procps
+)
+
+missing=()
+for package in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+echo "installing: ${missing[*]}"
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -q
+$sudo apt-get install -y -q --no-install-recommends "${missing[@]}"

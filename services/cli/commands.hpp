@@ -1,0 +1,23 @@
+// Subcommands of the `scanbus` command line, each registered on the CLI11 app.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+namespace scanbus::cli {
+
+// Options every DDS-using subcommand shares.
+struct DdsOptions {
+  std::string profile_file;  // empty: the built-in loopback profile
+  int domain = 0;
+};
+void add_dds_options(CLI::App& command, DdsOptions& options);
+
+// Each adds its subcommand; the callback stores the exit code in `exit_code`.
+void add_topics_command(CLI::App& app, int& exit_code);
+void add_echo_command(CLI::App& app, int& exit_code);
+void add_health_command(CLI::App& app, int& exit_code);
+void add_run_command(CLI::App& app, int& exit_code);
+
+}  // namespace scanbus::cli

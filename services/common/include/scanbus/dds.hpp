@@ -1,0 +1,165 @@
+// Thin typed wrappers over Fast DDS: a participant from an XML profile, writers and readers
+// of generated types with QoS from the topic catalogue. Only DDS nodes include this.
+#pragma once
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+
+#include <chrono>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+#include "scanbus/config.hpp"
+#include "scanbus/topics.hpp"
+
+namespace scanbus {
+
+class DdsError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct DdsSettings {
+  std::string profile_file;  // Fast DDS XML profiles; empty: the built-in loopback profile
+  std::string profile = "localhost";
+  int domain = 0;
+};
+
+// The loopback-only Fast DDS profile compiled into every binary (config/dds/localhost.xml).
+const char* embedded_localhost_profile();
+
+// The `dds` section of a service config; SCANBUS_DDS_PROFILE_FILE and SCANBUS_DOMAIN_ID
+// override the file so tests can isolate themselves.
+DdsSettings dds_settings_from_config(const Config& dds_section);
+
+class Participant {
+ public:
+  Participant(const DdsSettings& settings, const std::string& name);
+  ~Participant();
+  Participant(const Participant&) = delete;
+  Participant& operator=(const Participant&) = delete;
+
+  eprosima::fastdds::dds::Topic* topic(const std::string& name, eprosima::fastdds::dds::TopicDataType* type);
+  eprosima::fastdds::dds::Publisher* publisher() { return publisher_; }
+  eprosima::fastdds::dds::Subscriber* subscriber() { return subscriber_; }
+  eprosima::fastdds::dds::DomainParticipant* get() { return participant_; }
+  // QoS of a topic: catalogue default, overridden by the config's qos section.
+  QosSettings qos(const std::string& topic_name) const;
+  void set_qos_overrides(const Config& qos_section);
+
+ private:
+  eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
+  eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
+  eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
+  std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
+  std::map<std::string, QosSettings> qos_overrides_;
+  std::mutex mutex_;
+};
+
+eprosima::fastdds::dds::DataWriterQos writer_qos(const QosSettings& qos);
+eprosima::fastdds::dds::DataReaderQos reader_qos(const QosSettings& qos);
+
+// Fast DDS entity creation that throws instead of returning nullptr.
+eprosima::fastdds::dds::DataWriter* create_writer(Participant& participant, const std::string& topic,
+                                                  eprosima::fastdds::dds::TopicDataType* type,
+                                                  const QosSettings& qos);
+eprosima::fastdds::dds::DataReader* create_reader(Participant& participant, const std::string& topic,
+                                                  eprosima::fastdds::dds::TopicDataType* type,
+                                                  const QosSettings& qos,
+                                                  eprosima::fastdds::dds::DataReaderListener* listener);
+void delete_writer(Participant& participant, eprosima::fastdds::dds::DataWriter* writer);
+void delete_reader(Participant& participant, eprosima::fastdds::dds::DataReader* reader);
+
+template <class PubSubType>
+class Writer {
+ public:
+  using Sample = typename PubSubType::type;
+
+  Writer(Participant& participant, const std::string& topic)
+      : Writer(participant, topic, participant.qos(topic)) {}
+  Writer(Participant& participant, const std::string& topic, const QosSettings& qos)
+      : participant_(participant), topic_(topic),
+        writer_(create_writer(participant, topic, new PubSubType(), qos)) {}
+  ~Writer() { delete_writer(participant_, writer_); }
+  Writer(const Writer&) = delete;
+  Writer& operator=(const Writer&) = delete;
+
+  // False when Fast DDS refused the sample (e.g. a reliable writer's queue stayed full).
+  bool write(const Sample& sample) { return writer_->write(const_cast<Sample*>(&sample)); }
+  size_t matched_readers() const {
+    eprosima::fastdds::dds::PublicationMatchedStatus status;
+    writer_->get_publication_matched_status(status);
+    return static_cast<size_t>(status.current_count);
+  }
+  bool wait_for_readers(size_t count, std::chrono::milliseconds timeout) const {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (matched_readers() < count) {
+      if (std::chrono::steady_clock::now() > deadline) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return true;
+  }
+  // Blocks until reliable readers acknowledged everything written, or the timeout.
+  bool wait_for_acknowledgments(std::chrono::milliseconds timeout) {
+    return writer_->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(timeout.count() / 1000.0)) ==
+           ReturnCode_OK();
+  }
+  const std::string& topic() const { return topic_; }
+
+ private:
+  static eprosima::fastrtps::types::ReturnCode_t ReturnCode_OK() {
+    return eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+  }
+  Participant& participant_;
+  std::string topic_;
+  eprosima::fastdds::dds::DataWriter* writer_;
+};
+
+// Calls a handler for each valid sample, on Fast DDS's listener thread.
+template <class PubSubType>
+class Reader : private eprosima::fastdds::dds::DataReaderListener {
+ public:
+  using Sample = typename PubSubType::type;
+  using Handler = std::function<void(const Sample&, const eprosima::fastdds::dds::SampleInfo&)>;
+
+  Reader(Participant& participant, const std::string& topic, Handler handler)
+      : Reader(participant, topic, participant.qos(topic), std::move(handler)) {}
+  Reader(Participant& participant, const std::string& topic, const QosSettings& qos, Handler handler)
+      : participant_(participant), handler_(std::move(handler)),
+        reader_(create_reader(participant, topic, new PubSubType(), qos, this)) {}
+  ~Reader() { delete_reader(participant_, reader_); }
+  Reader(const Reader&) = delete;
+  Reader& operator=(const Reader&) = delete;
+
+  size_t matched_writers() const {
+    eprosima::fastdds::dds::SubscriptionMatchedStatus status;
+    reader_->get_subscription_matched_status(status);
+    return static_cast<size_t>(status.current_count);
+  }
+
+ private:
+  void on_data_available(eprosima::fastdds::dds::DataReader* reader) override {
+    eprosima::fastdds::dds::SampleInfo info;
+    while (reader->take_next_sample(&sample_, &info) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+      if (info.valid_data) handler_(sample_, info);
+    }
+  }
+
+  Participant& participant_;
+  Handler handler_;
+  Sample sample_;  // reused: large clouds are not reallocated per sample
+  eprosima::fastdds::dds::DataReader* reader_;
+};
+
+}  // namespace scanbus

@@ -1,0 +1,150 @@
+#include "scanbus/config.hpp"
+
+#include <fstream>
+#include <sstream>
+
+namespace scanbus {
+
+namespace {
+
+std::string join(const std::string& prefix, const std::string& key) {
+  return prefix.empty() ? key : prefix + "." + key;
+}
+
+std::string describe(const YAML::Node& node) {
+  if (node.IsMap()) return "a map";
+  if (node.IsSequence()) return "a list";
+  if (node.IsNull()) return "nothing";
+  return "'" + node.Scalar() + "'";
+}
+
+}  // namespace
+
+Config::Config(std::shared_ptr<State> state, YAML::Node node, std::string prefix)
+    : state_(std::move(state)), node_(std::move(node)), prefix_(std::move(prefix)) {}
+
+Config Config::load(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ConfigError(path + ": cannot open config file");
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse(text.str(), path);
+}
+
+Config Config::parse(const std::string& yaml_text, const std::string& origin) {
+  auto state = std::make_shared<State>();
+  state->origin = origin;
+  try {
+    state->root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(origin + ": invalid YAML at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  if (state->root.IsNull()) state->root = YAML::Node(YAML::NodeType::Map);
+  if (!state->root.IsMap()) throw ConfigError(origin + ": top level must be a map of keys");
+  return Config(state, state->root, "");
+}
+
+std::string Config::path_of(const std::string& key) const { return join(prefix_, key); }
+
+void Config::fail(const std::string& key, const std::string& what) const {
+  throw ConfigError(state_->origin + ": key '" + path_of(key) + "' " + what);
+}
+
+bool Config::has(const std::string& key) const { return static_cast<bool>(node_[key]); }
+
+Config Config::section(const std::string& key) const {
+  state_->read_sections.insert(path_of(key));
+  YAML::Node child = node_[key];
+  if (!child || child.IsNull()) return Config(state_, YAML::Node(YAML::NodeType::Map), path_of(key));
+  if (!child.IsMap()) fail(key, "must be a map, got " + describe(child));
+  return Config(state_, child, path_of(key));
+}
+
+std::vector<std::string> Config::keys() const {
+  std::vector<std::string> out;
+  for (const auto& entry : node_) out.push_back(entry.first.as<std::string>());
+  return out;
+}
+
+YAML::Node Config::scalar(const std::string& key) const {
+  state_->read_leaves.insert(path_of(key));
+  YAML::Node value = node_[key];
+  if (value && !value.IsScalar()) fail(key, "must be a single value, got " + describe(value));
+  return value;
+}
+
+double Config::number(const std::string& key, double fallback, double min, double max) const {
+  YAML::Node value = scalar(key);
+  double result = fallback;
+  if (value) {
+    try {
+      result = value.as<double>();
+    } catch (const YAML::Exception&) {
+      fail(key, "must be a number, got " + describe(value));
+    }
+  }
+  if (!(result >= min && result <= max)) {
+    fail(key, "must be between " + std::to_string(min) + " and " + std::to_string(max) + ", got " +
+                  (value ? value.Scalar() : std::to_string(result)));
+  }
+  return result;
+}
+
+long long Config::integer(const std::string& key, long long fallback, long long min, long long max) const {
+  YAML::Node value = scalar(key);
+  long long result = fallback;
+  if (value) {
+    try {
+      result = value.as<long long>();
+    } catch (const YAML::Exception&) {
+      fail(key, "must be a whole number, got " + describe(value));
+    }
+  }
+  if (result < min || result > max) {
+    fail(key, "must be between " + std::to_string(min) + " and " + std::to_string(max) + ", got " +
+                  std::to_string(result));
+  }
+  return result;
+}
+
+bool Config::flag(const std::string& key, bool fallback) const {
+  YAML::Node value = scalar(key);
+  if (!value) return fallback;
+  try {
+    return value.as<bool>();
+  } catch (const YAML::Exception&) {
+    fail(key, "must be true or false, got " + describe(value));
+  }
+}
+
+std::string Config::text(const std::string& key, const std::string& fallback) const {
+  YAML::Node value = scalar(key);
+  return value ? value.as<std::string>() : fallback;
+}
+
+std::string Config::choice(const std::string& key, const std::string& fallback,
+                           const std::vector<std::string>& allowed) const {
+  std::string value = text(key, fallback);
+  for (const auto& option : allowed)
+    if (option == value) return value;
+  std::string list;
+  for (const auto& option : allowed) list += (list.empty() ? "" : ", ") + option;
+  fail(key, "must be one of " + list + ", got '" + value + "'");
+}
+
+void Config::check_all_read() const { check_node(state_->root, ""); }
+
+void Config::check_node(const YAML::Node& node, const std::string& prefix) const {
+  for (const auto& entry : node) {
+    const std::string path = join(prefix, entry.first.as<std::string>());
+    if (state_->read_leaves.count(path)) continue;
+    if (state_->read_sections.count(path) && entry.second.IsMap()) {
+      check_node(entry.second, path);
+      continue;
+    }
+    if (state_->read_sections.count(path) && entry.second.IsNull()) continue;
+    throw ConfigError(state_->origin + ": unknown key '" + path + "'");
+  }
+}
+
+}  // namespace scanbus

@@ -1,0 +1,139 @@
+#include "scanbus/dds.hpp"
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+
+#include <cstdlib>
+
+namespace scanbus {
+
+namespace dds = eprosima::fastdds::dds;
+using eprosima::fastrtps::types::ReturnCode_t;
+
+DdsSettings dds_settings_from_config(const Config& section) {
+  DdsSettings settings;
+  settings.profile_file = section.text("profile_file", "");
+  settings.profile = section.text("profile", settings.profile);
+  settings.domain = static_cast<int>(section.integer("domain", 0, 0, 232));
+  if (const char* file = std::getenv("SCANBUS_DDS_PROFILE_FILE")) settings.profile_file = file;
+  if (const char* domain = std::getenv("SCANBUS_DOMAIN_ID")) {
+    try {
+      settings.domain = std::stoi(domain);
+    } catch (const std::exception&) {
+      throw ConfigError(std::string("SCANBUS_DOMAIN_ID: must be a whole number, got '") + domain + "'");
+    }
+    if (settings.domain < 0 || settings.domain > 232)
+      throw ConfigError("SCANBUS_DOMAIN_ID: must be between 0 and 232, got " + std::string(domain));
+  }
+  return settings;
+}
+
+Participant::Participant(const DdsSettings& settings, const std::string& name) {
+  auto* factory = dds::DomainParticipantFactory::get_instance();
+  dds::DomainParticipantQos qos;
+  if (!settings.profile_file.empty()) {
+    if (factory->load_XML_profiles_file(settings.profile_file) != ReturnCode_t::RETCODE_OK)
+      throw DdsError(settings.profile_file + ": cannot load Fast DDS XML profiles");
+    if (factory->get_participant_qos_from_profile(settings.profile, qos) != ReturnCode_t::RETCODE_OK)
+      throw DdsError(settings.profile_file + ": no participant profile '" + settings.profile + "'");
+  } else {
+    const std::string xml = embedded_localhost_profile();
+    if (factory->load_XML_profiles_string(xml.c_str(), xml.size()) != ReturnCode_t::RETCODE_OK ||
+        factory->get_participant_qos_from_profile(settings.profile, qos) != ReturnCode_t::RETCODE_OK)
+      throw DdsError("built-in DDS profile has no participant profile '" + settings.profile + "'");
+  }
+  qos.name(name);
+  participant_ = factory->create_participant(settings.domain, qos);
+  if (!participant_) throw DdsError("cannot create DDS participant on domain " + std::to_string(settings.domain));
+  publisher_ = participant_->create_publisher(dds::PUBLISHER_QOS_DEFAULT);
+  subscriber_ = participant_->create_subscriber(dds::SUBSCRIBER_QOS_DEFAULT);
+  if (!publisher_ || !subscriber_) throw DdsError("cannot create DDS publisher or subscriber");
+}
+
+Participant::~Participant() {
+  if (!participant_) return;
+  participant_->delete_contained_entities();
+  dds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+}
+
+dds::Topic* Participant::topic(const std::string& name, dds::TopicDataType* type) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  dds::TypeSupport support(type);  // owns `type` from here on
+  if (auto found = topics_.find(name); found != topics_.end()) {
+    if (found->second->get_type_name() != support.get_type_name())
+      throw DdsError("topic '" + name + "' already has type " + found->second->get_type_name());
+    return found->second;
+  }
+  if (participant_->find_type(support.get_type_name()).empty() &&
+      support.register_type(participant_) != ReturnCode_t::RETCODE_OK)
+    throw DdsError("cannot register type " + support.get_type_name());
+  dds::Topic* topic = participant_->create_topic(name, support.get_type_name(), dds::TOPIC_QOS_DEFAULT);
+  if (!topic) throw DdsError("cannot create topic '" + name + "' of type " + support.get_type_name());
+  topics_[name] = topic;
+  return topic;
+}
+
+void Participant::set_qos_overrides(const Config& qos_section) {
+  for (const auto& name : qos_section.keys()) {
+    const TopicInfo* info = find_topic(name);
+    if (!info) throw ConfigError(qos_section.origin() + ": key '" + qos_section.path_of(name) + "' names an unknown topic");
+    qos_overrides_[name] = qos_from_config(qos_section, *info);
+  }
+}
+
+QosSettings Participant::qos(const std::string& topic_name) const {
+  if (auto found = qos_overrides_.find(topic_name); found != qos_overrides_.end()) return found->second;
+  return topic_info(topic_name).qos;
+}
+
+namespace {
+
+template <class EndpointQos>
+void apply(const QosSettings& qos, EndpointQos& out) {
+  out.reliability().kind = qos.reliable ? dds::RELIABLE_RELIABILITY_QOS : dds::BEST_EFFORT_RELIABILITY_QOS;
+  out.durability().kind = qos.transient_local ? dds::TRANSIENT_LOCAL_DURABILITY_QOS : dds::VOLATILE_DURABILITY_QOS;
+  out.history().kind = qos.keep_all ? dds::KEEP_ALL_HISTORY_QOS : dds::KEEP_LAST_HISTORY_QOS;
+  out.history().depth = qos.depth;
+  // Unbounded sequences (clouds, scans) report a bogus maximum size: let the history grow.
+  out.endpoint().history_memory_policy = eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+}
+
+}  // namespace
+
+dds::DataWriterQos writer_qos(const QosSettings& qos) {
+  dds::DataWriterQos out = dds::DATAWRITER_QOS_DEFAULT;
+  apply(qos, out);
+  return out;
+}
+
+dds::DataReaderQos reader_qos(const QosSettings& qos) {
+  dds::DataReaderQos out = dds::DATAREADER_QOS_DEFAULT;
+  apply(qos, out);
+  return out;
+}
+
+dds::DataWriter* create_writer(Participant& participant, const std::string& topic, dds::TopicDataType* type,
+                               const QosSettings& qos) {
+  dds::DataWriter* writer = participant.publisher()->create_datawriter(participant.topic(topic, type), writer_qos(qos));
+  if (!writer) throw DdsError("cannot create writer on '" + topic + "' (" + describe(qos) + ")");
+  return writer;
+}
+
+dds::DataReader* create_reader(Participant& participant, const std::string& topic, dds::TopicDataType* type,
+                               const QosSettings& qos, dds::DataReaderListener* listener) {
+  dds::DataReader* reader = participant.subscriber()->create_datareader(
+      participant.topic(topic, type), reader_qos(qos), listener, dds::StatusMask::data_available());
+  if (!reader) throw DdsError("cannot create reader on '" + topic + "' (" + describe(qos) + ")");
+  return reader;
+}
+
+void delete_writer(Participant& participant, dds::DataWriter* writer) {
+  participant.publisher()->delete_datawriter(writer);
+}
+
+void delete_reader(Participant& participant, dds::DataReader* reader) {
+  // Detach first so no callback runs into a half-destroyed Reader.
+  reader->set_listener(nullptr);
+  participant.subscriber()->delete_datareader(reader);
+}
+
+}  // namespace scanbus

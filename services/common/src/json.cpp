@@ -1,0 +1,134 @@
+#include "scanbus/json.hpp"
+
+using nlohmann::json;
+
+namespace builtin_interfaces::msg {
+void to_json(json& out, const Time& in) { out = {{"sec", in.sec()}, {"nanosec", in.nanosec()}}; }
+}  // namespace builtin_interfaces::msg
+
+namespace std_msgs::msg {
+void to_json(json& out, const Header& in) { out = {{"stamp", in.stamp()}, {"frame_id", in.frame_id()}}; }
+}  // namespace std_msgs::msg
+
+namespace geometry_msgs::msg {
+void to_json(json& out, const Point& in) { out = {{"x", in.x()}, {"y", in.y()}, {"z", in.z()}}; }
+void to_json(json& out, const Vector3& in) { out = {{"x", in.x()}, {"y", in.y()}, {"z", in.z()}}; }
+void to_json(json& out, const Quaternion& in) {
+  out = {{"x", in.x()}, {"y", in.y()}, {"z", in.z()}, {"w", in.w()}};
+}
+void to_json(json& out, const Pose& in) { out = {{"position", in.position()}, {"orientation", in.orientation()}}; }
+void to_json(json& out, const PoseStamped& in) { out = {{"header", in.header()}, {"pose", in.pose()}}; }
+void to_json(json& out, const PoseWithCovariance& in) {
+  out = {{"pose", in.pose()}, {"covariance", in.covariance()}};
+}
+void to_json(json& out, const PoseWithCovarianceStamped& in) { out = {{"header", in.header()}, {"pose", in.pose()}}; }
+void to_json(json& out, const Transform& in) { out = {{"translation", in.translation()}, {"rotation", in.rotation()}}; }
+void to_json(json& out, const TransformStamped& in) {
+  out = {{"header", in.header()}, {"child_frame_id", in.child_frame_id()}, {"transform", in.transform()}};
+}
+}  // namespace geometry_msgs::msg
+
+namespace tf2_msgs::msg {
+void to_json(json& out, const TFMessage& in) { out = {{"transforms", in.transforms()}}; }
+}  // namespace tf2_msgs::msg
+
+namespace sensor_msgs::msg {
+void to_json(json& out, const LaserScan& in) {
+  out = {{"header", in.header()},          {"angle_min", in.angle_min()},
+         {"angle_max", in.angle_max()},    {"angle_increment", in.angle_increment()},
+         {"time_increment", in.time_increment()}, {"scan_time", in.scan_time()},
+         {"range_min", in.range_min()},    {"range_max", in.range_max()},
+         {"ranges", in.ranges()},          {"intensities", in.intensities()}};
+}
+void to_json(json& out, const PointField& in) {
+  out = {{"name", in.name()}, {"offset", in.offset()}, {"datatype", in.datatype()}, {"count", in.count()}};
+}
+void to_json(json& out, const PointCloud2& in) {
+  out = {{"header", in.header()},         {"height", in.height()},
+         {"width", in.width()},           {"fields", in.fields()},
+         {"is_bigendian", in.is_bigendian()}, {"point_step", in.point_step()},
+         {"row_step", in.row_step()},     {"data", {{"bytes", in.data().size()}}},
+         {"is_dense", in.is_dense()}};
+}
+void to_json(json& out, const Imu& in) {
+  out = {{"header", in.header()},
+         {"orientation", in.orientation()},
+         {"orientation_covariance", in.orientation_covariance()},
+         {"angular_velocity", in.angular_velocity()},
+         {"angular_velocity_covariance", in.angular_velocity_covariance()},
+         {"linear_acceleration", in.linear_acceleration()},
+         {"linear_acceleration_covariance", in.linear_acceleration_covariance()}};
+}
+void to_json(json& out, const FluidPressure& in) {
+  out = {{"header", in.header()}, {"fluid_pressure", in.fluid_pressure()}, {"variance", in.variance()}};
+}
+void to_json(json& out, const NavSatStatus& in) { out = {{"status", in.status()}, {"service", in.service()}}; }
+void to_json(json& out, const NavSatFix& in) {
+  out = {{"header", in.header()},       {"status", in.status()},
+         {"latitude", in.latitude()},   {"longitude", in.longitude()},
+         {"altitude", in.altitude()},   {"position_covariance", in.position_covariance()},
+         {"position_covariance_type", in.position_covariance_type()}};
+}
+}  // namespace sensor_msgs::msg
+
+namespace scanbus::msg {
+void to_json(json& out, const Pose2D& in) { out = {{"x", in.x()}, {"y", in.y()}, {"theta", in.theta()}}; }
+void to_json(json& out, const SphericalMeasurement& in) {
+  out = {{"stamp", in.stamp()}, {"line", in.line()},   {"yaw", in.yaw()},
+         {"pitch", in.pitch()}, {"range", in.range()}, {"signal", in.signal()}};
+}
+void to_json(json& out, const SphericalScan& in) {
+  out = {{"header", in.header()},
+         {"revolution", in.revolution()},
+         {"first_sequence", in.first_sequence()},
+         {"last_sequence", in.last_sequence()},
+         {"lost", in.lost()},
+         {"revolution_complete", in.revolution_complete()},
+         {"measurements", in.measurements()}};
+}
+void to_json(json& out, const ScannerCommand& in) {
+  out = {{"header", in.header()}, {"command", in.command()}, {"resolution", in.resolution()}};
+}
+void to_json(json& out, const ScannerStatus& in) {
+  out = {{"header", in.header()},           {"device", in.device()},
+         {"firmware", in.firmware()},       {"state", in.state()},
+         {"resolution", in.resolution()},   {"rpm", in.rpm()},
+         {"revolutions", in.revolutions()}, {"measurements", in.measurements()},
+         {"lost_lines", in.lost_lines()},   {"checksum_errors", in.checksum_errors()},
+         {"message", in.message()}};
+}
+void to_json(json& out, const ScanMatch& in) {
+  out = {{"header", in.header()},         {"pose", in.pose()},
+         {"increment", in.increment()},   {"covariance", in.covariance()},
+         {"quality", in.quality()},       {"iterations", in.iterations()},
+         {"correspondences", in.correspondences()}, {"residual", in.residual()},
+         {"keyframe", in.keyframe()}};
+}
+void to_json(json& out, const Wall& in) {
+  out = {{"plane", in.plane()},
+         {"length", in.length()},
+         {"length_uncertainty", in.length_uncertainty()},
+         {"inliers", in.inliers()},
+         {"rms_residual", in.rms_residual()}};
+}
+void to_json(json& out, const RoomMeasurement& in) {
+  out = {{"header", in.header()},         {"walls", in.walls()},
+         {"corners", in.corners()},       {"floor_area", in.floor_area()},
+         {"perimeter", in.perimeter()},   {"ceiling_height", in.ceiling_height()},
+         {"status", in.status()},         {"message", in.message()}};
+}
+void to_json(json& out, const AssembleRequest& in) {
+  out = {{"request_id", in.request_id()}, {"client", in.client()}, {"begin", in.begin()},
+         {"end", in.end()},               {"frame_id", in.frame_id()}};
+}
+void to_json(json& out, const AssembleReply& in) {
+  out = {{"request_id", in.request_id()}, {"client", in.client()}, {"status", in.status()},
+         {"message", in.message()},       {"cloud", in.cloud()}};
+}
+void to_json(json& out, const Counter& in) { out = {{"name", in.name()}, {"value", in.value()}}; }
+void to_json(json& out, const Health& in) {
+  out = {{"header", in.header()}, {"service", in.service()},   {"host", in.host()},
+         {"pid", in.pid()},       {"state", in.state()},       {"uptime", in.uptime()},
+         {"counters", in.counters()}, {"last_error", in.last_error()}};
+}
+}  // namespace scanbus::msg

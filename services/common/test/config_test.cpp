@@ -1,0 +1,100 @@
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+
+#include "scanbus/config.hpp"
+
+using scanbus::Config;
+using scanbus::ConfigError;
+
+namespace {
+
+std::string error_of(const std::function<void()>& action) {
+  try {
+    action();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(Config, ReadsTypedValuesWithDefaults) {
+  const Config config = Config::parse("service:\n  health_period: 0.5\n  name: x\n  on: true\n", "t.yaml");
+  const Config service = config.section("service");
+  EXPECT_DOUBLE_EQ(service.number("health_period", 1.0, 0.0, 10.0), 0.5);
+  EXPECT_EQ(service.text("name", ""), "x");
+  EXPECT_TRUE(service.flag("on", false));
+  EXPECT_EQ(service.integer("depth", 7, 0, 10), 7);
+  EXPECT_NO_THROW(config.check_all_read());
+}
+
+TEST(Config, UnknownKeyIsNamedWithFile) {
+  const Config config = Config::parse("service:\n  helth_period: 0.5\n", "svc.yaml");
+  config.section("service").number("health_period", 1.0, 0.0, 10.0);
+  EXPECT_EQ(error_of([&] { config.check_all_read(); }), "svc.yaml: unknown key 'service.helth_period'");
+}
+
+TEST(Config, UnknownTopLevelSectionIsReported) {
+  const Config config = Config::parse("servce: {}\n", "svc.yaml");
+  EXPECT_EQ(error_of([&] { config.check_all_read(); }), "svc.yaml: unknown key 'servce'");
+}
+
+TEST(Config, WrongTypeNamesKeyAndValue) {
+  const Config config = Config::parse("service:\n  health_period: fast\n", "svc.yaml");
+  EXPECT_EQ(error_of([&] { config.section("service").number("health_period", 1.0, 0.0, 10.0); }),
+            "svc.yaml: key 'service.health_period' must be a number, got 'fast'");
+}
+
+TEST(Config, OutOfRangeIsAnError) {
+  const Config config = Config::parse("depth: 100\n", "svc.yaml");
+  EXPECT_EQ(error_of([&] { config.integer("depth", 1, 1, 10); }),
+            "svc.yaml: key 'depth' must be between 1 and 10, got 100");
+}
+
+TEST(Config, NaNIsOutOfRange) {
+  const Config config = Config::parse("x: .nan\n", "svc.yaml");
+  EXPECT_NE(error_of([&] { config.number("x", 1.0, 0.0, 10.0); }), "");
+}
+
+TEST(Config, MapWhereValueExpected) {
+  const Config config = Config::parse("x: {a: 1}\n", "svc.yaml");
+  EXPECT_EQ(error_of([&] { config.number("x", 1.0, 0.0, 10.0); }),
+            "svc.yaml: key 'x' must be a single value, got a map");
+}
+
+TEST(Config, ChoiceListsAllowedValues) {
+  const Config config = Config::parse("mode: fastest\n", "svc.yaml");
+  EXPECT_EQ(error_of([&] { config.choice("mode", "a", {"a", "b"}); }),
+            "svc.yaml: key 'mode' must be one of a, b, got 'fastest'");
+}
+
+TEST(Config, MissingFileIsAnError) {
+  EXPECT_EQ(error_of([] { Config::load("/nonexistent/scanbus.yaml"); }),
+            "/nonexistent/scanbus.yaml: cannot open config file");
+}
+
+TEST(Config, SyntaxErrorNamesLine) {
+  const std::string message = error_of([] { Config::parse("a: 1\nb: [1, 2\n", "bad.yaml"); });
+  EXPECT_NE(message.find("bad.yaml: invalid YAML at line"), std::string::npos) << message;
+}
+
+TEST(Config, TopLevelMustBeAMap) {
+  EXPECT_EQ(error_of([] { Config::parse("- 1\n- 2\n", "list.yaml"); }),
+            "list.yaml: top level must be a map of keys");
+}
+
+TEST(Config, EmptyFileMeansDefaults) {
+  const Config config = Config::parse("", "empty.yaml");
+  EXPECT_EQ(config.section("service").text("name", "d"), "d");
+  EXPECT_NO_THROW(config.check_all_read());
+}
+
+TEST(Config, LoadsFromFile) {
+  const std::string path = ::testing::TempDir() + "/scanbus_config_test.yaml";
+  std::ofstream(path) << "a: 3\n";
+  EXPECT_EQ(Config::load(path).integer("a", 0, 0, 5), 3);
+  std::remove(path.c_str());
+}

@@ -1,0 +1,56 @@
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "scanbus/topics.hpp"
+
+using namespace scanbus;
+
+TEST(Topics, EveryTopicCarriesTheRos2Prefix) {
+  for (const auto& topic : topic_catalogue()) EXPECT_EQ(topic.name.rfind("rt/", 0), 0u) << topic.name;
+}
+
+TEST(Topics, EveryTypeUsesRos2DdsNaming) {
+  for (const auto& topic : topic_catalogue()) {
+    EXPECT_NE(topic.type.find("::msg::dds_::"), std::string::npos) << topic.type;
+    EXPECT_EQ(topic.type.back(), '_') << topic.type;
+  }
+}
+
+TEST(Topics, NamesAreUnique) {
+  for (const auto& topic : topic_catalogue()) EXPECT_EQ(find_topic(topic.name), &topic);
+}
+
+TEST(Topics, UnknownTopicIsNamed) {
+  EXPECT_EQ(find_topic("rt/nope"), nullptr);
+  EXPECT_THROW(topic_info("rt/nope"), std::invalid_argument);
+}
+
+TEST(Topics, QosOverridesFromConfig) {
+  const Config config = Config::parse(
+      "qos:\n  rt/scanner/cloud: {reliability: best_effort, durability: volatile, depth: 3}\n", "q.yaml");
+  const QosSettings qos = qos_from_config(config.section("qos"), topic_info("rt/scanner/cloud"));
+  EXPECT_FALSE(qos.reliable);
+  EXPECT_FALSE(qos.transient_local);
+  EXPECT_EQ(qos.depth, 3);
+  EXPECT_NO_THROW(config.check_all_read());
+}
+
+TEST(Topics, BadQosValueIsAConfigError) {
+  const Config config = Config::parse("qos:\n  rt/scan: {reliability: sometimes}\n", "q.yaml");
+  EXPECT_THROW(qos_from_config(config.section("qos"), topic_info("rt/scan")), ConfigError);
+}
+
+// docs/topics.md is the user's view of the catalogue: it must list every topic with its
+// type and QoS as the code has them.
+TEST(Topics, DocumentationListsEveryTopic) {
+  std::ifstream in(std::string(SCANBUS_SOURCE_DIR) + "/docs/topics.md");
+  ASSERT_TRUE(in) << "docs/topics.md missing";
+  std::stringstream text;
+  text << in.rdbuf();
+  for (const auto& topic : topic_catalogue()) {
+    const std::string row = "| `" + topic.name + "` | `" + topic.type + "` | " + describe(topic.qos) + " |";
+    EXPECT_NE(text.str().find(row), std::string::npos) << "docs/topics.md lacks the row starting: " << row;
+  }
+}
