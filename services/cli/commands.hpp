@@ -19,5 +19,6 @@ void add_topics_command(CLI::App& app, int& exit_code);
 void add_echo_command(CLI::App& app, int& exit_code);
 void add_health_command(CLI::App& app, int& exit_code);
 void add_run_command(CLI::App& app, int& exit_code);
+void add_demo_command(CLI::App& app, int& exit_code);
 
 }  // namespace scanbus::cli

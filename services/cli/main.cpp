@@ -9,6 +9,7 @@ int main(int argc, char** argv) {
   scanbus::cli::add_echo_command(app, exit_code);
   scanbus::cli::add_health_command(app, exit_code);
   scanbus::cli::add_run_command(app, exit_code);
+  scanbus::cli::add_demo_command(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

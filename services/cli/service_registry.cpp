@@ -1,9 +1,13 @@
 #include "service_registry.hpp"
 
+#include "scanner_io_node.hpp"
+
 namespace scanbus::cli {
 
 const std::map<std::string, ServiceFactory>& service_registry() {
-  static const std::map<std::string, ServiceFactory> registry = {};
+  static const std::map<std::string, ServiceFactory> registry = {
+      {"scanner_io", scanner_io::make_scanner_io},
+  };
   return registry;
 }
 

@@ -39,4 +39,14 @@ expect "unknown topic in qos" "key 'qos.rt/no_such_topic' names an unknown topic
 
 expect "run: unknown service" "unknown service 'nope'" -- "$scanbus" run nope
 
+# Every shipped config is valid for its service.
+for config in "$(dirname "$0")"/../../config/services/*.yaml; do
+  service=$(basename "$config" .yaml)
+  if "$scanbus" run "$service" --config "$config" --check-config > "$work/out" 2>&1; then
+    echo "ok   $(cat "$work/out")"
+  else
+    echo "FAIL shipped config $config:"; cat "$work/out"; failures=$((failures + 1))
+  fi
+done
+
 [ "$failures" -eq 0 ]

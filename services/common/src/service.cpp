@@ -134,7 +134,8 @@ std::shared_ptr<spdlog::logger> make_logger(const std::string& service, const st
   return logger;
 }
 
-int run_service(const std::string& name, const std::string& config_path, const ServiceFactory& factory) {
+int run_service(const std::string& name, const std::string& config_path, const ServiceFactory& factory,
+                bool check_only) {
   StopSignal::install();
   std::shared_ptr<spdlog::logger> log = make_logger(name, "info");
   try {
@@ -151,6 +152,10 @@ int run_service(const std::string& name, const std::string& config_path, const S
     ServiceContext context{name, config, participant, health, log};
     std::unique_ptr<Service> instance = factory(context);
     config.check_all_read();
+    if (check_only) {
+      std::cout << (config_path.empty() ? "built-in defaults" : config_path) << ": valid config for " << name << "\n";
+      return 0;
+    }
     health.set_state(scanbus::msg::Health_Constants::OK);
     log->info("started (domain {}, profile {})", dds.domain,
               dds.profile_file.empty() ? "built-in localhost" : dds.profile_file);
@@ -170,13 +175,15 @@ int run_service(const std::string& name, const std::string& config_path, const S
 int service_main(const std::string& name, int argc, char** argv, const ServiceFactory& factory) {
   CLI::App app{"scanbus " + name + " service"};
   std::string config_path;
+  bool check_only = false;
   app.add_option("-c,--config", config_path, "YAML config file (defaults built in)");
+  app.add_flag("--check-config", check_only, "Validate the config and exit");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
-  return run_service(name, config_path, factory);
+  return run_service(name, config_path, factory, check_only);
 }
 
 }  // namespace scanbus

@@ -86,10 +86,12 @@ class Service {
 // checked after the factory returns and before run().
 using ServiceFactory = std::function<std::unique_ptr<Service>(ServiceContext&)>;
 
-// Exit codes: 0 done, 1 runtime failure, 2 bad config or command line.
-int run_service(const std::string& name, const std::string& config_path, const ServiceFactory& factory);
+// Exit codes: 0 done, 1 runtime failure, 2 bad config or command line. With check_only,
+// returns after the config was read and validated.
+int run_service(const std::string& name, const std::string& config_path, const ServiceFactory& factory,
+                bool check_only = false);
 
-// main() of a service's own executable: `NAME [--config FILE]`.
+// main() of a service's own executable: `NAME [--config FILE] [--check-config]`.
 int service_main(const std::string& name, int argc, char** argv, const ServiceFactory& factory);
 
 }  // namespace scanbus

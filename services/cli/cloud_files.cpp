@@ -1,0 +1,92 @@
+#include "cloud_files.hpp"
+
+#include <cairo.h>
+#include <pcl/io/pcd_io.h>
+#include <pcl/point_types.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace scanbus::cli {
+
+void write_pcd(const std::string& path, const std::vector<CloudPoint>& points) {
+  pcl::PointCloud<pcl::PointXYZI> cloud;
+  for (const auto& point : points) {
+    pcl::PointXYZI out;
+    out.x = point.position.x();
+    out.y = point.position.y();
+    out.z = point.position.z();
+    out.intensity = point.intensity;
+    cloud.push_back(out);  // keeps width x height == size, which the writer checks
+  }
+  if (cloud.empty() || pcl::io::savePCDFileBinary(path, cloud) != 0)
+    throw std::runtime_error(path + ": cannot write PCD" + (cloud.empty() ? " (no points)" : ""));
+}
+
+namespace {
+
+// Blue (low) to red (high), like RViz's rainbow.
+void height_colour(double t, double& r, double& g, double& b) {
+  t = std::clamp(t, 0.0, 1.0);
+  r = std::clamp(1.5 - std::abs(4 * t - 3), 0.0, 1.0);
+  g = std::clamp(1.5 - std::abs(4 * t - 2), 0.0, 1.0);
+  b = std::clamp(1.5 - std::abs(4 * t - 1), 0.0, 1.0);
+}
+
+}  // namespace
+
+void write_top_view_png(const std::string& path, const std::vector<CloudPoint>& points, const std::string& title) {
+  if (points.empty()) throw std::runtime_error(path + ": no points to draw");
+  Eigen::Vector3f low = points.front().position, high = low;
+  for (const auto& point : points) {
+    low = low.cwiseMin(point.position);
+    high = high.cwiseMax(point.position);
+  }
+  const int size = 800, margin = 40;
+  const double span = std::max({high.x() - low.x(), high.y() - low.y(), 1e-3f});
+  const double scale = (size - 2 * margin) / span;
+  auto px = [&](double x) { return margin + (x - low.x()) * scale; };
+  auto py = [&](double y) { return size - margin - (y - low.y()) * scale; };
+
+  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, size, size);
+  cairo_t* cr = cairo_create(surface);
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+  cairo_set_source_rgb(cr, 0.85, 0.85, 0.85);
+  cairo_set_line_width(cr, 1);
+  for (double x = std::ceil(low.x()); x <= high.x(); x += 1.0) {
+    cairo_move_to(cr, px(x), margin);
+    cairo_line_to(cr, px(x), size - margin);
+  }
+  for (double y = std::ceil(low.y()); y <= high.y(); y += 1.0) {
+    cairo_move_to(cr, margin, py(y));
+    cairo_line_to(cr, size - margin, py(y));
+  }
+  cairo_stroke(cr);
+  // Higher points drawn last, as seen from above.
+  std::vector<const CloudPoint*> order;
+  for (const auto& point : points) order.push_back(&point);
+  std::sort(order.begin(), order.end(), [](auto a, auto b) { return a->position.z() < b->position.z(); });
+  const double height = std::max(high.z() - low.z(), 1e-3f);
+  for (const CloudPoint* point : order) {
+    double r, g, b;
+    height_colour((point->position.z() - low.z()) / height, r, g, b);
+    cairo_set_source_rgb(cr, r, g, b);
+    cairo_arc(cr, px(point->position.x()), py(point->position.y()), 1.6, 0, 2 * M_PI);
+    cairo_fill(cr);
+  }
+  cairo_set_source_rgb(cr, 0, 0, 0);
+  cairo_arc(cr, px(0), py(0), 4, 0, 2 * M_PI);  // the scanner
+  cairo_fill(cr);
+  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, 14);
+  cairo_move_to(cr, margin, 25);
+  cairo_show_text(cr, (title + "  (grid 1 m, colour = height, dot = scanner)").c_str());
+  cairo_destroy(cr);
+  const cairo_status_t status = cairo_surface_write_to_png(surface, path.c_str());
+  cairo_surface_destroy(surface);
+  if (status != CAIRO_STATUS_SUCCESS) throw std::runtime_error(path + ": cannot write PNG: " + cairo_status_to_string(status));
+}
+
+}  // namespace scanbus::cli

@@ -1,0 +1,26 @@
+// Packing points into sensor_msgs/PointCloud2 (x y z intensity, float32, little endian,
+// the layout RViz2 and Foxglove read directly) and reading x y z back from any cloud.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "PointCloud2.h"
+
+namespace scanbus {
+
+struct CloudPoint {
+  Eigen::Vector3f position;
+  float intensity = 0;
+};
+
+sensor_msgs::msg::PointCloud2 to_point_cloud2(const std::vector<CloudPoint>& points, const std::string& frame_id,
+                                              const builtin_interfaces::msg::Time& stamp);
+
+// Throws std::invalid_argument naming what is wrong (missing x/y/z, not float32, short data).
+std::vector<CloudPoint> from_point_cloud2(const sensor_msgs::msg::PointCloud2& cloud);
+
+}  // namespace scanbus

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# The main job end to end, and the CLI against a running service: `scanbus demo` runs
+# scanner_io as its own process and writes a plausible cloud; `scanbus health --check`,
+# `scanbus echo` and `scanbus topics` see the running service.
+set -euo pipefail
+scanbus=$1
+work=$(mktemp -d)
+trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$work"' EXIT
+
+"$scanbus" demo --json --out "$work/out" > "$work/demo.json"
+cat "$work/demo.json"
+python3 - "$work/demo.json" <<'PY'
+import json, sys
+result = json.load(open(sys.argv[1]))
+assert result["revolutions"] == 27, result
+assert 6000 <= result["points"] <= 6750, result
+height = result["extent_max"][2] - result["extent_min"][2]
+assert abs(height - 2.5) < 0.2, f"floor to ceiling {height:.2f} m, built-in room is 2.5 m"
+for path in result["files"]:
+    with open(path, "rb") as f:
+        head = f.read(8)
+    assert head.startswith(b"#") or head.startswith(b"\x89PNG"), path
+print("demo output plausible")
+PY
+
+# A scanner_io left running (slow pace) for the CLI to look at.
+printf 'service:\n  health_period: 0.2\nscanner_io:\n  simulated:\n    rate: 1\n' > "$work/slow.yaml"
+"$scanbus" run scanner_io --config "$work/slow.yaml" 2> "$work/scanner_io.log" &
+"$scanbus" health --check scanner_io --timeout 20
+"$scanbus" echo rt/scanner/status --count 1 --timeout 20 | python3 -c '
+import json, sys
+status = json.loads(sys.stdin.readline())
+assert status["device"] == "simulated" and status["state"] == 2, status
+print("echo rt/scanner/status:", status["message"])'
+"$scanbus" echo rt/scanbus/health --count 2 --timeout 20 | python3 -c '
+import json, sys
+lines = [json.loads(l) for l in sys.stdin]
+assert len(lines) == 2 and all("counters" in l for l in lines), lines
+print("echo rt/scanbus/health: 2 samples")'
+"$scanbus" topics | grep -q "rt/scanner/scan_cloud"
+if "$scanbus" echo rt/no_such --count 1 --timeout 1 2> "$work/err"; then echo "unknown topic accepted"; exit 1; fi
+grep -q "unknown topic 'rt/no_such'" "$work/err"
+echo "cli ok"
