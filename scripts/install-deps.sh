@@ -9,7 +9,7 @@ packages=(
   libpcl-dev libceres-dev libeigen3-dev
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libcairo2-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  iproute2 procps
+  iproute2 procps python3
 )
 
 missing=()
