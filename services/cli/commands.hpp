@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <functional>
 #include <string>
 
 namespace scanbus::cli {
@@ -13,6 +14,10 @@ struct DdsOptions {
   int domain = 0;
 };
 void add_dds_options(CLI::App& command, DdsOptions& options);
+
+// Runs `body` when the subcommand is chosen; its return value becomes the exit code, and
+// an exception becomes one "scanbus NAME: what" line on stderr and exit code 1.
+void on_run(CLI::App& command, int& exit_code, std::function<int()> body);
 
 // Each adds its subcommand; the callback stores the exit code in `exit_code`.
 void add_topics_command(CLI::App& app, int& exit_code);

@@ -150,14 +150,7 @@ void add_demo_command(CLI::App& app, int& exit_code) {
   command->add_flag("--json", options.json, "Print the result as one JSON object, no progress");
   command->add_option("--timeout", options.timeout, "Give up after this many seconds")->check(CLI::PositiveNumber);
   add_dds_options(*command, options.dds);
-  command->callback([&exit_code] {
-    try {
-      exit_code = run_demo(options);
-    } catch (const std::exception& e) {
-      std::cerr << "scanbus demo: " << e.what() << "\n";
-      exit_code = 1;
-    }
-  });
+  on_run(*command, exit_code, [] { return run_demo(options); });
 }
 
 }  // namespace scanbus::cli

@@ -73,14 +73,7 @@ void add_echo_command(CLI::App& app, int& exit_code) {
   command->add_option("--timeout", options.timeout, "Stop after this many seconds (0: never)")
       ->check(CLI::NonNegativeNumber);
   add_dds_options(*command, options.dds);
-  command->callback([&exit_code] {
-    try {
-      exit_code = run_echo(options);
-    } catch (const std::exception& e) {
-      std::cerr << "scanbus echo: " << e.what() << "\n";
-      exit_code = 1;
-    }
-  });
+  on_run(*command, exit_code, [] { return run_echo(options); });
 }
 
 }  // namespace scanbus::cli

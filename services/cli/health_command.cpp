@@ -98,14 +98,7 @@ void add_health_command(CLI::App& app, int& exit_code) {
   command->add_option("--timeout", options.timeout, "Seconds to collect (--once) or wait (--check)")
       ->check(CLI::PositiveNumber);
   add_dds_options(*command, options.dds);
-  command->callback([&exit_code] {
-    try {
-      exit_code = run_health(options);
-    } catch (const std::exception& e) {
-      std::cerr << "scanbus health: " << e.what() << "\n";
-      exit_code = 1;
-    }
-  });
+  on_run(*command, exit_code, [] { return run_health(options); });
 }
 
 }  // namespace scanbus::cli

@@ -26,6 +26,7 @@ PY
 # A scanner_io left running (slow pace) for the CLI to look at.
 printf 'service:\n  health_period: 0.2\nscanner_io:\n  simulated:\n    rate: 1\n' > "$work/slow.yaml"
 "$scanbus" run scanner_io --config "$work/slow.yaml" 2> "$work/scanner_io.log" &
+scanner_io=$!
 "$scanbus" health --check scanner_io --timeout 20
 "$scanbus" echo rt/scanner/status --count 1 --timeout 20 | python3 -c '
 import json, sys
@@ -40,4 +41,12 @@ print("echo rt/scanbus/health: 2 samples")'
 "$scanbus" topics | grep -q "rt/scanner/scan_cloud"
 if "$scanbus" echo rt/no_such --count 1 --timeout 1 2> "$work/err"; then echo "unknown topic accepted"; exit 1; fi
 grep -q "unknown topic 'rt/no_such'" "$work/err"
+# SIGINT (Ctrl-C) stops a service cleanly within 1 s.
+start=$(date +%s%N)
+kill -INT "$scanner_io"
+status=0
+wait "$scanner_io" || status=$?
+elapsed_ms=$(( ($(date +%s%N) - start) / 1000000 ))
+echo "scanner_io stopped in ${elapsed_ms} ms with status ${status}"
+[ "$status" -eq 0 ] && [ "$elapsed_ms" -le 1000 ]
 echo "cli ok"
