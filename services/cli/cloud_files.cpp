@@ -38,10 +38,14 @@ void height_colour(double t, double& r, double& g, double& b) {
 
 void write_top_view_png(const std::string& path, const std::vector<CloudPoint>& points, const std::string& title) {
   if (points.empty()) throw std::runtime_error(path + ": no points to draw");
-  Eigen::Vector3f low = points.front().position, high = low;
-  for (const auto& point : points) {
-    low = low.cwiseMin(point.position);
-    high = high.cwiseMax(point.position);
+  // Robust extent: a few far returns (through doors, windows) must not shrink the room.
+  Eigen::Vector3f low, high;
+  for (int axis = 0; axis < 3; ++axis) {
+    std::vector<float> values;
+    for (const auto& point : points) values.push_back(point.position[axis]);
+    std::sort(values.begin(), values.end());
+    low[axis] = values[values.size() * 2 / 100] - 0.5f;
+    high[axis] = values[values.size() * 98 / 100] + 0.5f;
   }
   const int size = 800, margin = 40;
   const double span = std::max({high.x() - low.x(), high.y() - low.y(), 1e-3f});
@@ -69,6 +73,8 @@ void write_top_view_png(const std::string& path, const std::vector<CloudPoint>& 
   for (const auto& point : points) order.push_back(&point);
   std::sort(order.begin(), order.end(), [](auto a, auto b) { return a->position.z() < b->position.z(); });
   const double height = std::max(high.z() - low.z(), 1e-3f);
+  cairo_rectangle(cr, margin, margin, size - 2 * margin, size - 2 * margin);
+  cairo_clip(cr);
   for (const CloudPoint* point : order) {
     double r, g, b;
     height_colour((point->position.z() - low.z()) / height, r, g, b);
@@ -76,13 +82,16 @@ void write_top_view_png(const std::string& path, const std::vector<CloudPoint>& 
     cairo_arc(cr, px(point->position.x()), py(point->position.y()), 1.6, 0, 2 * M_PI);
     cairo_fill(cr);
   }
+  cairo_reset_clip(cr);
   cairo_set_source_rgb(cr, 0, 0, 0);
   cairo_arc(cr, px(0), py(0), 4, 0, 2 * M_PI);  // the scanner
   cairo_fill(cr);
   cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
   cairo_set_font_size(cr, 14);
   cairo_move_to(cr, margin, 25);
-  cairo_show_text(cr, (title + "  (grid 1 m, colour = height, dot = scanner)").c_str());
+  cairo_show_text(cr, title.c_str());
+  cairo_move_to(cr, margin, size - 12);
+  cairo_show_text(cr, "top view, grid 1 m, colour = height (blue low, red high), black dot = scanner");
   cairo_destroy(cr);
   const cairo_status_t status = cairo_surface_write_to_png(surface, path.c_str());
   cairo_surface_destroy(surface);

@@ -1,66 +1,111 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 
-#include "scanbus/sim/simulated_scanner.hpp"
+#include "scanbus/sim/room_file.hpp"
 
 using namespace scanbus::sim;
 
-TEST(RoomModel, BuiltInRoomDimensions) {
-  const RoomModel room = RoomModel::built_in();
-  const auto lengths = room.wall_lengths();
-  ASSERT_EQ(lengths.size(), 4u);
-  EXPECT_NEAR(lengths[0], 5.2, 1e-9);
-  EXPECT_NEAR(lengths[1], 3.9, 1e-9);
-  EXPECT_NEAR(room.floor_area(), 5.2 * 3.9, 1e-9);
+namespace {
+
+RoomModel box_room() {
+  RoomModel room;
+  room.corners = {{0, 0}, {5, 0}, {5, 3}, {0, 3}};
+  room.ceiling = 2.5;
+  room.scanner = {2, 1, 1};
+  return room;
 }
 
+}  // namespace
+
 TEST(RoomModel, CastHitsWallsFloorAndCeiling) {
-  RoomModel room;
-  room.corners = {{-2, -1}, {3, -1}, {3, 2}, {-2, 2}};
-  room.floor_z = -1.0;
-  room.ceiling_z = 1.5;
+  const RoomModel room = box_room();
   EXPECT_NEAR(*room.cast({1, 0, 0}), 3.0, 1e-9);
   EXPECT_NEAR(*room.cast({-1, 0, 0}), 2.0, 1e-9);
   EXPECT_NEAR(*room.cast({0, 1, 0}), 2.0, 1e-9);
   EXPECT_NEAR(*room.cast({0, 0, -1}), 1.0, 1e-9);
   EXPECT_NEAR(*room.cast({0, 0, 1}), 1.5, 1e-9);
-  // 45 degrees down towards the +x wall: the floor (1.0 / sin 45) comes first.
-  EXPECT_NEAR(*room.cast(Eigen::Vector3d(1, 0, -1).normalized()), std::sqrt(2.0), 1e-9);
+  EXPECT_NEAR(*room.cast(Eigen::Vector3d(1, 0, -1).normalized()), std::sqrt(2.0), 1e-9);  // floor first
 }
 
-TEST(RoomModel, RayThroughAGapEscapes) {
-  RoomModel room;
-  room.corners = {{1, -1}, {1, 1}};  // a single wall segment, no floor or ceiling hit horizontally
-  room.floor_z = -1;
-  room.ceiling_z = 1;
-  EXPECT_FALSE(room.cast({-1, 0, 0}).has_value());
+TEST(RoomModel, HeadingTurnsTheScanner) {
+  RoomModel room = box_room();
+  room.heading = M_PI / 2;  // scanner x looks along room +y
+  EXPECT_NEAR(*room.cast({1, 0, 0}), 2.0, 1e-9);
+  EXPECT_TRUE(room.to_room({1, 0, 0}).isApprox(Eigen::Vector3d(2, 2, 1)));
 }
 
-TEST(ScanPattern, ThesisNumbers) {
-  ScanPattern pattern;
-  pattern.rpm = speed_setting(0).rpm;
-  EXPECT_NEAR(pattern.yaw_step() * 180 / M_PI, 1.44, 1e-9);  // Table 4.2, res 0
-  EXPECT_EQ(pattern.samples_per_revolution(), 250);
-  pattern.rpm = speed_setting(2).rpm;
-  EXPECT_NEAR(pattern.yaw_step() * 180 / M_PI, 3.36, 1e-9);
-  EXPECT_NEAR(pattern.pitch(0, 0) * 180 / M_PI, 42.0, 1e-9);
-  EXPECT_NEAR(pattern.pitch(26, 0) * 180 / M_PI, 120.0, 1e-9);
-  EXPECT_NEAR(pattern.pitch(0, 1) * 180 / M_PI, 43.0, 1e-9);
-  EXPECT_NEAR(pattern.pitch(0, 3) * 180 / M_PI, 42.0, 1e-9);
-  EXPECT_THROW(speed_setting(3), std::invalid_argument);
+TEST(RoomModel, OpeningLetsHorizontalRaysEscapeButNotHigherOnes) {
+  RoomModel room = box_room();
+  room.openings.push_back({1, 0.5, 1.5, 0.0, 2.0});  // right wall (x = 5), y 0.5..1.5
+  EXPECT_FALSE(room.cast({1, 0, 0}).has_value());
+  // Steeply up through the door's height: hits the wall above the door (z > 2)? No, the
+  // ceiling plane beyond it at z = 2.5.
+  const auto up = room.cast(Eigen::Vector3d(3, 0, 1.2).normalized());  // reaches x = 5 at z = 2.2
+  ASSERT_TRUE(up.has_value());
+  EXPECT_NEAR(room.to_room(*up * Eigen::Vector3d(3, 0, 1.2).normalized()).x(), 5.0, 1e-9);
+  // Down through the door: the floor beyond it, as far as the corridor reaches.
+  const auto down = room.cast(Eigen::Vector3d(4, 0, -1).normalized());
+  ASSERT_TRUE(down.has_value());
+  EXPECT_NEAR(room.to_room(*down * Eigen::Vector3d(4, 0, -1).normalized()).z(), 0.0, 1e-9);
+  room.outside = 0.5;  // the floor ends 0.5 m past the wall, the ray meets it 1 m past
+  EXPECT_FALSE(room.cast(Eigen::Vector3d(4, 0, -1).normalized()).has_value());
 }
 
-TEST(SimulatedScanner, YawCarriesOverAndRangesMatchTheRoom) {
-  ScanPattern pattern;
-  SimulatedScanner scanner(RoomModel::built_in(), pattern, 0.0, 1);
-  const auto first = scanner.revolution(0, 0);
-  const auto second = scanner.revolution(1, 0);
-  ASSERT_EQ(first.size(), 150u);
-  EXPECT_NEAR(second.front().yaw - first.back().yaw, pattern.yaw_step(), 1e-12);
-  EXPECT_GT(second.front().yaw, 2 * M_PI - pattern.yaw_step());
-  for (const auto& sample : first) {
-    EXPECT_GT(sample.range, 0.5);
-    EXPECT_LT(sample.range, 6.0);
+TEST(RoomModel, BoxesBlockRays) {
+  RoomModel room = box_room();
+  room.boxes.push_back({{3, 0.5, 0}, {3.5, 1.5, 1.5}});
+  EXPECT_NEAR(*room.cast({1, 0, 0}), 1.0, 1e-9);
+  EXPECT_NEAR(room.distance_to_surface({1.0, 0, 0}), 0.0, 1e-9);
+}
+
+TEST(RoomModel, DistanceToSurface) {
+  const RoomModel room = box_room();
+  EXPECT_NEAR(room.distance_to_surface({2.9, 0, 0}), 0.1, 1e-9);  // 0.1 m before the x = 5 wall
+  EXPECT_NEAR(room.distance_to_surface({0, 0, -0.95}), 0.05, 1e-9);
+  EXPECT_NEAR(room.wall_lengths()[1], 3.0, 1e-12);
+  EXPECT_NEAR(room.floor_area(), 15.0, 1e-12);
+}
+
+TEST(RoomModel, ValidationNamesTheProblem) {
+  RoomModel room = box_room();
+  room.scanner = {7, 1, 1};
+  EXPECT_THROW(room.validate(), std::invalid_argument);
+  room = box_room();
+  room.openings.push_back({9, 0, 1, 0, 2});
+  EXPECT_THROW(room.validate(), std::invalid_argument);
+  room = box_room();
+  room.scanner.z() = 3.0;
+  EXPECT_THROW(room.validate(), std::invalid_argument);
+}
+
+TEST(RoomFile, ShippedRoomsLoad) {
+  const std::string folder = std::string(SCANBUS_SOURCE_DIR) + "/config/rooms";
+  int rooms = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    const RoomModel room = load_room_file(entry.path().string());
+    EXPECT_GE(room.corners.size(), 4u) << entry.path();
+    ++rooms;
   }
+  EXPECT_GE(rooms, 3);
+  const RoomModel thesis = load_room_file(folder + "/thesis_case1.yaml");
+  EXPECT_NEAR(thesis.wall_lengths()[0], 5.47, 1e-12);
+  EXPECT_NEAR(thesis.wall_lengths()[1], 3.48, 1e-12);
+  EXPECT_NEAR(load_room_file(folder + "/rotated_30.yaml").heading, M_PI / 6, 1e-12);
+  EXPECT_NEAR(load_room_file(folder + "/l_shaped.yaml").floor_area(), 6 * 5 - 2.5 * 2, 1e-12);
+}
+
+TEST(RoomFile, BadRoomIsAConfigError) {
+  const auto error = [](const std::string& yaml) {
+    try {
+      load_room(scanbus::Config::parse(yaml, "room.yaml"));
+    } catch (const scanbus::ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error("ceiling: 2\nscanner: {position: [1, 1, 1]}\n"), "room.yaml: key 'corners' is required");
+  EXPECT_EQ(error("corners: [[0, 0], [1, 0], [1, 1]]\nscanner: {position: [5, 5, 1]}\n"),
+            "room.yaml: the scanner stands outside the floor plan");
 }

@@ -132,6 +132,53 @@ std::string Config::choice(const std::string& key, const std::string& fallback,
   fail(key, "must be one of " + list + ", got '" + value + "'");
 }
 
+void Config::missing(const std::string& key) const { fail(key, "is required"); }
+
+std::vector<double> Config::row_of(const YAML::Node& list, const std::string& key, size_t width) const {
+  if (!list.IsSequence() || list.size() != width)
+    fail(key, "must be a list of " + std::to_string(width) + " numbers, got " + describe(list));
+  std::vector<double> row;
+  for (const auto& item : list) {
+    try {
+      row.push_back(item.as<double>());
+    } catch (const YAML::Exception&) {
+      fail(key, "must hold numbers, got " + describe(item));
+    }
+  }
+  return row;
+}
+
+std::vector<double> Config::numbers(const std::string& key, size_t width) const {
+  state_->read_leaves.insert(path_of(key));
+  if (!node_[key]) missing(key);
+  return row_of(node_[key], key, width);
+}
+
+std::vector<std::vector<double>> Config::number_rows(const std::string& key, size_t width) const {
+  state_->read_leaves.insert(path_of(key));
+  const YAML::Node list = node_[key];
+  if (!list) missing(key);
+  if (!list.IsSequence()) fail(key, "must be a list, got " + describe(list));
+  std::vector<std::vector<double>> rows;
+  for (size_t i = 0; i < list.size(); ++i) rows.push_back(row_of(list[i], key + "[" + std::to_string(i) + "]", width));
+  return rows;
+}
+
+std::vector<Config> Config::maps(const std::string& key) const {
+  state_->read_sections.insert(path_of(key));
+  const YAML::Node list = node_[key];
+  std::vector<Config> out;
+  if (!list || list.IsNull()) return out;
+  if (!list.IsSequence()) fail(key, "must be a list, got " + describe(list));
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string name = key + "[" + std::to_string(i) + "]";
+    if (!list[i].IsMap()) fail(name, "must be a map, got " + describe(list[i]));
+    state_->read_sections.insert(path_of(name));
+    out.push_back(Config(state_, list[i], path_of(name)));
+  }
+  return out;
+}
+
 void Config::check_all_read() const { check_node(state_->root, ""); }
 
 void Config::check_node(const YAML::Node& node, const std::string& prefix) const {
@@ -143,6 +190,11 @@ void Config::check_node(const YAML::Node& node, const std::string& prefix) const
       continue;
     }
     if (state_->read_sections.count(path) && entry.second.IsNull()) continue;
+    if (state_->read_sections.count(path) && entry.second.IsSequence()) {
+      for (size_t i = 0; i < entry.second.size(); ++i)
+        check_node(entry.second[i], path + "[" + std::to_string(i) + "]");
+      continue;
+    }
     throw ConfigError(state_->origin + ": unknown key '" + path + "'");
   }
 }

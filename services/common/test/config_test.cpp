@@ -98,3 +98,29 @@ TEST(Config, LoadsFromFile) {
   EXPECT_EQ(Config::load(path).integer("a", 0, 0, 5), 3);
   std::remove(path.c_str());
 }
+
+TEST(Config, ListsOfNumbersAndMaps) {
+  const Config config = Config::parse(
+      "corners: [[0, 0], [5, 0], [5, 3]]\norigin: [1, 2, 3]\nboxes:\n  - {min: [0, 0, 0], max: [1, 1, 1]}\n", "room.yaml");
+  EXPECT_EQ(config.number_rows("corners", 2).size(), 3u);
+  EXPECT_EQ(config.numbers("origin", 3)[2], 3.0);
+  const auto boxes = config.maps("boxes");
+  ASSERT_EQ(boxes.size(), 1u);
+  EXPECT_EQ(boxes[0].numbers("max", 3)[0], 1.0);
+  EXPECT_EQ(boxes[0].numbers("min", 3)[0], 0.0);
+  EXPECT_NO_THROW(config.check_all_read());
+}
+
+TEST(Config, UnknownKeyInsideAListIsNamed) {
+  const Config config = Config::parse("boxes:\n  - {min: [0, 0, 0], max: [1, 1, 1], colour: red}\n", "room.yaml");
+  for (const auto& box : config.maps("boxes")) box.numbers("min", 3), box.numbers("max", 3);
+  EXPECT_EQ(error_of([&] { config.check_all_read(); }), "room.yaml: unknown key 'boxes[0].colour'");
+}
+
+TEST(Config, BadRowsAreNamed) {
+  const Config config = Config::parse("corners: [[0, 0], [5]]\norigin: [1, x, 3]\n", "room.yaml");
+  EXPECT_EQ(error_of([&] { config.number_rows("corners", 2); }),
+            "room.yaml: key 'corners[1]' must be a list of 2 numbers, got a list");
+  EXPECT_EQ(error_of([&] { config.numbers("origin", 3); }), "room.yaml: key 'origin' must hold numbers, got 'x'");
+  EXPECT_EQ(error_of([&] { config.numbers("nothing", 3); }), "room.yaml: key 'nothing' is required");
+}

@@ -38,6 +38,14 @@ class Config {
   std::string choice(const std::string& key, const std::string& fallback,
                      const std::vector<std::string>& allowed) const;
 
+  // A list of `width` numbers, or a list of such lists (rows); throws when absent.
+  std::vector<double> numbers(const std::string& key, size_t width) const;
+  std::vector<std::vector<double>> number_rows(const std::string& key, size_t width) const;
+  // Each map of a list of maps (empty when absent), named "key[i]" in errors.
+  std::vector<Config> maps(const std::string& key) const;
+  // Throws ConfigError saying the key is required.
+  [[noreturn]] void missing(const std::string& key) const;
+
   // Throws ConfigError naming the first key of the file that no getter asked for.
   void check_all_read() const;
 
@@ -53,6 +61,7 @@ class Config {
   };
   Config(std::shared_ptr<State> state, YAML::Node node, std::string prefix);
   YAML::Node scalar(const std::string& key) const;
+  std::vector<double> row_of(const YAML::Node& list, const std::string& key, size_t width) const;
   [[noreturn]] void fail(const std::string& key, const std::string& what) const;
   void check_node(const YAML::Node& node, const std::string& prefix) const;
 

@@ -2,20 +2,14 @@
 // the layout RViz2 and Foxglove read directly) and reading x y z back from any cloud.
 #pragma once
 
-#include <Eigen/Core>
-
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "PointCloud2.h"
+#include "scanbus/cloud_point.hpp"
 
 namespace scanbus {
-
-struct CloudPoint {
-  Eigen::Vector3f position;
-  float intensity = 0;
-};
 
 sensor_msgs::msg::PointCloud2 to_point_cloud2(const std::vector<CloudPoint>& points, const std::string& frame_id,
                                               const builtin_interfaces::msg::Time& stamp);

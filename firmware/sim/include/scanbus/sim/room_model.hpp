@@ -1,28 +1,51 @@
-// A room to scan: a floor plan polygon of vertical walls between a floor and a ceiling,
-// with the scanner at the origin. Ray casting gives the range a LiDAR would measure.
+// A room to scan: a floor plan polygon of vertical walls (with openings such as doors),
+// a floor and a ceiling (planes that go on past the doors), and boxes as furniture. Room
+// coordinates in metres, floor at z = 0; the scanner stands somewhere inside, turned by
+// `heading` against the room's axes. Ray casting gives what a LiDAR would measure.
 #pragma once
 
 #include <Eigen/Core>
 
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace scanbus::sim {
 
+struct Opening {
+  size_t wall = 0;                // wall i runs from corner i to corner i + 1
+  double from = 0, to = 0;        // m along the wall from its first corner
+  double bottom = 0, top = 2.0;   // m above the floor
+};
+
+struct Box {
+  Eigen::Vector3d min, max;       // axis-aligned in room coordinates
+};
+
 struct RoomModel {
-  std::vector<Eigen::Vector2d> corners;  // floor plan, counter-clockwise, scanner frame, m
-  double floor_z = -1.2;                 // m, below the scanner
-  double ceiling_z = 1.3;                // m, above the scanner
+  std::string name;
+  std::vector<Eigen::Vector2d> corners;  // counter-clockwise
+  double ceiling = 2.5;                  // m above the floor
+  double outside = 3.0;                  // m: floor and ceiling go on this far past the walls (a corridor)
+  std::vector<Opening> openings;
+  std::vector<Box> boxes;
+  Eigen::Vector3d scanner{0, 0, 1.2};    // scanner origin in room coordinates
+  double heading = 0;                    // rad, scanner x axis against the room's x axis
 
-  // The built-in demo room: 5.2 m x 3.9 m, 2.5 m high, turned 20 degrees against the
-  // scanner's axes, scanner off-centre at 1.2 m above the floor.
-  static RoomModel built_in();
-
-  // Distance along the unit direction to the first surface; nullopt when the ray escapes.
+  // Distance along a unit direction given in the scanner frame; nullopt when it escapes.
   std::optional<double> cast(const Eigen::Vector3d& direction) const;
+  // Distance from a point in the scanner frame to the nearest surface.
+  double distance_to_surface(const Eigen::Vector3d& point) const;
 
+  // Whether floor and ceiling exist at this point: within `outside` of the floor plan's box.
+  bool within_reach(const Eigen::Vector2d& point) const;
   std::vector<double> wall_lengths() const;
   double floor_area() const;
+  Eigen::Vector3d to_room(const Eigen::Vector3d& scanner_point) const;
+
+  // Throws std::invalid_argument naming the problem (fewer than 3 corners, scanner outside
+  // the floor plan or not between floor and ceiling, an opening off its wall).
+  void validate() const;
 };
 
 }  // namespace scanbus::sim

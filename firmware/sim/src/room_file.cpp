@@ -1,0 +1,46 @@
+#include "scanbus/sim/room_file.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace scanbus::sim {
+
+RoomModel load_room(const Config& config) {
+  RoomModel room;
+  room.name = config.text("name", "room");
+  for (const auto& corner : config.number_rows("corners", 2)) room.corners.emplace_back(corner[0], corner[1]);
+  room.ceiling = config.number("ceiling", 2.5, 0.5, 20.0);
+  room.outside = config.number("outside", 3.0, 0.0, 100.0);
+  const Config scanner = config.section("scanner");
+  const auto position = scanner.numbers("position", 3);
+  room.scanner = Eigen::Vector3d(position[0], position[1], position[2]);
+  room.heading = scanner.number("heading", 0.0, -360.0, 360.0) * M_PI / 180.0;
+  for (const auto& entry : config.maps("openings")) {
+    Opening opening;
+    opening.wall = static_cast<size_t>(entry.integer("wall", 0, 0, 1000));
+    opening.from = entry.number("from", 0.0, 0.0, 1000.0);
+    opening.to = entry.number("to", 0.0, 0.0, 1000.0);
+    opening.bottom = entry.number("bottom", 0.0, 0.0, 20.0);
+    opening.top = entry.number("top", 2.0, 0.0, 20.0);
+    room.openings.push_back(opening);
+  }
+  for (const auto& entry : config.maps("boxes")) {
+    const auto min = entry.numbers("min", 3), max = entry.numbers("max", 3);
+    room.boxes.push_back({Eigen::Vector3d(min[0], min[1], min[2]), Eigen::Vector3d(max[0], max[1], max[2])});
+  }
+  try {
+    room.validate();
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError(config.origin() + ": " + e.what());
+  }
+  return room;
+}
+
+RoomModel load_room_file(const std::string& path) {
+  const Config config = Config::load(path);
+  RoomModel room = load_room(config);
+  config.check_all_read();
+  return room;
+}
+
+}  // namespace scanbus::sim

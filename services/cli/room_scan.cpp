@@ -1,0 +1,76 @@
+#include "room_scan.hpp"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <mutex>
+#include <optional>
+
+#include "child_process.hpp"
+#include "PointCloud2PubSubTypes.h"
+#include "scanbus/point_cloud.hpp"
+#include "scanbus/service.hpp"
+
+namespace scanbus::cli {
+
+namespace {
+
+constexpr unsigned kRevolutionsPerScan = 27;
+
+void check_alive(ChildProcess& child) {
+  if (auto status = child.exited())
+    throw std::runtime_error(child.name() + " exited early with status " + std::to_string(*status) + " (see " +
+                             child.log_path() + ")");
+}
+
+}  // namespace
+
+RoomScanResult run_room_scan(const RoomScanOptions& options) {
+  StopSignal::install();
+  mkdir(options.work_dir.c_str(), 0755);
+  const std::string link = options.work_dir + "/scanner.tty";
+  const std::string config = options.work_dir + "/scanner_io.yaml";
+  std::ofstream(config) << "service:\n  health_period: 0.5\nscanner_io:\n  port: " << link
+                        << "\n  resolution: " << options.resolution << "\n  scans: 1\n  reconnect_min: 0.05\n";
+  // The services read their DDS settings from the environment: same domain and profile as ours.
+  setenv("SCANBUS_DOMAIN_ID", std::to_string(options.dds.domain).c_str(), 1);
+  if (!options.dds.profile_file.empty()) setenv("SCANBUS_DDS_PROFILE_FILE", options.dds.profile_file.c_str(), 1);
+
+  Participant participant(DdsSettings{options.dds.profile_file, "localhost", options.dds.domain}, "scanbus/scan");
+  std::mutex mutex;
+  std::optional<RoomScanResult> result;
+  unsigned revolutions = 0;
+  Reader<sensor_msgs::msg::PointCloud2PubSubType> revolution_reader(
+      participant, "rt/scanner/cloud", QosSettings{true, false, false, 50}, [&](const auto&, const auto&) {
+        std::lock_guard<std::mutex> lock(mutex);
+        ++revolutions;
+        if (options.progress) std::printf("\rscanning: revolution %u of %u", revolutions, kRevolutionsPerScan), std::fflush(stdout);
+      });
+  Reader<sensor_msgs::msg::PointCloud2PubSubType> scan_reader(
+      participant, "rt/scanner/scan_cloud", [&](const auto& cloud, const auto&) {
+        std::lock_guard<std::mutex> lock(mutex);
+        result = RoomScanResult{from_point_cloud2(cloud), revolutions};
+        StopSignal::request();
+      });
+
+  std::vector<std::string> sim = {"sim", "scanner", "--link", link, "--speed", std::to_string(options.speed)};
+  if (!options.room_file.empty()) sim.insert(sim.end(), {"--room", options.room_file});
+  ChildProcess simulator(sim, options.work_dir + "/scanner_sim.log");
+  ChildProcess scanner_io({"run", "scanner_io", "--config", config}, options.work_dir + "/scanner_io.log");
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.timeout);
+  while (!StopSignal::wait_for(std::chrono::milliseconds(100))) {
+    check_alive(simulator);
+    check_alive(scanner_io);
+    if (std::chrono::steady_clock::now() > deadline)
+      throw std::runtime_error("no complete scan within " + std::to_string(static_cast<int>(options.timeout)) + " s");
+  }
+  if (options.progress) std::printf("\n");
+  std::lock_guard<std::mutex> lock(mutex);
+  if (!result) throw std::runtime_error("interrupted before the scan completed");
+  return *result;
+}
+
+}  // namespace scanbus::cli

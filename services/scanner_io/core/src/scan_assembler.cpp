@@ -1,0 +1,76 @@
+#include "scanbus/scanner_io/scan_assembler.hpp"
+
+namespace scanbus::scanner_io {
+
+ScanOutput ScanAssembler::add(const DeviceLine& line, double now) {
+  ++counters_.lines;
+  ScanOutput out;
+  switch (line.kind) {
+    case LineKind::Invalid:
+      ++(line.bad_checksum ? counters_.checksum_errors : counters_.malformed_lines);
+      break;
+    case LineKind::Hello:  // the device (re)started: sequence numbers begin again
+      abort();
+      expected_sequence_.reset();
+      break;
+    case LineKind::Measurement: {
+      if (line.measurement.line != 0 || expected_sequence_) track_sequence(line.measurement.line);
+      SphericalMeasurement measurement = line.measurement;
+      measurement.stamp = now;
+      ++counters_.measurements;
+      current_.measurements.push_back(measurement);
+      if (in_gate(measurement, gate_)) {
+        current_.points.push_back({to_cartesian(measurement.range, measurement.yaw, measurement.pitch),
+                                   static_cast<float>(measurement.signal)});
+      } else {
+        ++counters_.out_of_range;
+      }
+      break;
+    }
+    case LineKind::Lap:
+      if (line.counted && line.revolution == 0 && laps_in_scan_ > 0) abort();  // a new scan began
+      if (line.counted) current_.index = line.revolution;
+      ++laps_in_scan_;
+      current_.scan = scan_index_;
+      scan_points_.insert(scan_points_.end(), current_.points.begin(), current_.points.end());
+      out.revolution = std::move(current_);
+      current_ = Revolution{};
+      current_.index = out.revolution->index + 1;
+      ++counters_.revolutions;
+      break;
+    case LineKind::Done:
+      if (line.counted && laps_in_scan_ != line.revolution) {
+        abort();  // joined mid-scan or lost laps: not a whole scan
+        break;
+      }
+      out.scan = std::move(scan_points_);
+      scan_points_.clear();
+      current_ = Revolution{};
+      laps_in_scan_ = 0;
+      ++scan_index_;
+      ++counters_.scans;
+      break;
+    case LineKind::Status:
+    case LineKind::DeviceError:
+      break;
+  }
+  return out;
+}
+
+void ScanAssembler::track_sequence(uint32_t sequence) {
+  if (expected_sequence_ && sequence > *expected_sequence_) {
+    const uint64_t gap = sequence - *expected_sequence_;
+    counters_.lost_lines += gap;
+    current_.lost += gap;
+  }
+  expected_sequence_ = sequence + 1;
+}
+
+void ScanAssembler::abort() {
+  if (scanning() || laps_in_scan_ > 0) ++counters_.aborted_scans;
+  current_ = Revolution{};
+  scan_points_.clear();
+  laps_in_scan_ = 0;
+}
+
+}  // namespace scanbus::scanner_io
