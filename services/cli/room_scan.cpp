@@ -9,8 +9,8 @@
 #include <mutex>
 #include <optional>
 
-#include "child_process.hpp"
 #include "PointCloud2PubSubTypes.h"
+#include "scanbus/child_process.hpp"
 #include "scanbus/point_cloud.hpp"
 #include "scanbus/service.hpp"
 
@@ -58,8 +58,8 @@ RoomScanResult run_room_scan(const RoomScanOptions& options) {
 
   std::vector<std::string> sim = {"sim", "scanner", "--link", link, "--speed", std::to_string(options.speed)};
   if (!options.room_file.empty()) sim.insert(sim.end(), {"--room", options.room_file});
-  ChildProcess simulator(sim, options.work_dir + "/scanner_sim.log");
-  ChildProcess scanner_io({"run", "scanner_io", "--config", config}, options.work_dir + "/scanner_io.log");
+  ChildProcess simulator(own_executable(), sim, options.work_dir + "/scanner_sim.log");
+  ChildProcess scanner_io(own_executable(), {"run", "scanner_io", "--config", config}, options.work_dir + "/scanner_io.log");
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.timeout);
   while (!StopSignal::wait_for(std::chrono::milliseconds(100))) {
     check_alive(simulator);

@@ -1,4 +1,4 @@
-#include "pty_device.hpp"
+#include "scanbus/sim/pty_device.hpp"
 
 #include <fcntl.h>
 #include <termios.h>

@@ -17,7 +17,7 @@ double cast_box(const Box& box, const Eigen::Vector3d& origin, const Eigen::Vect
   double near = 0, far = std::numeric_limits<double>::infinity();
   for (int axis = 0; axis < 3; ++axis) {
     if (std::abs(direction[axis]) < 1e-12) {
-      if (origin[axis] < box.min[axis] || origin[axis] > box.max[axis]) return far;
+      if (origin[axis] < box.min[axis] || origin[axis] > box.max[axis]) return std::numeric_limits<double>::infinity();
       continue;
     }
     double t0 = (box.min[axis] - origin[axis]) / direction[axis];

@@ -8,7 +8,7 @@
 #include <memory>
 #include <thread>
 
-#include "pty_device.hpp"
+#include "scanbus/sim/pty_device.hpp"
 #include "scanbus/sim/room_file.hpp"
 #include "scanbus/sim/simulated_hardware.hpp"
 #include "scanner_core.h"

@@ -60,6 +60,13 @@ TEST(RoomModel, BoxesBlockRays) {
   EXPECT_NEAR(room.distance_to_surface({1.0, 0, 0}), 0.0, 1e-9);
 }
 
+TEST(RoomModel, HorizontalRayPassesOverALowBox) {
+  RoomModel room = box_room();
+  room.boxes.push_back({{3, 0.5, 0}, {3.5, 1.5, 0.8}});  // below the scanner's height (1 m)
+  const double pitch = M_PI / 2;                            // cos(pitch) is 6e-17, not 0
+  EXPECT_NEAR(*room.cast({std::sin(pitch), 0, std::cos(pitch)}), 3.0, 1e-9);  // the wall, not the box
+}
+
 TEST(RoomModel, DistanceToSurface) {
   const RoomModel room = box_room();
   EXPECT_NEAR(room.distance_to_surface({2.9, 0, 0}), 0.1, 1e-9);  // 0.1 m before the x = 5 wall

@@ -51,6 +51,7 @@ bool SerialPort::open(std::string& error) {
     return false;
   }
   partial_.clear();
+  discarding_ = false;
   return true;
 }
 
@@ -77,13 +78,17 @@ bool SerialPort::read_lines(std::vector<std::string>& lines, int timeout_ms) {
   }
   for (ssize_t i = 0; i < count; ++i) {
     if (buffer[i] == '\n') {
-      lines.push_back(std::move(partial_));
+      if (!discarding_) lines.push_back(std::move(partial_));
       partial_.clear();
+      discarding_ = false;
+    } else if (discarding_) {
+      continue;
     } else if (partial_.size() < kMaxLineLength) {
       partial_ += buffer[i];
     } else {
       ++overlong_lines_;
       partial_.clear();
+      discarding_ = true;
     }
   }
   return true;

@@ -25,7 +25,7 @@ class SerialPort {
   // false when the device went away (unplugged, pty closed); the port is closed then.
   bool read_lines(std::vector<std::string>& lines, int timeout_ms);
   bool write_line(const std::string& line);
-  // Bytes dropped because a line grew past kMaxLineLength.
+  // Lines dropped because they grew past kMaxLineLength.
   size_t overlong_lines() const { return overlong_lines_; }
 
  private:
@@ -33,6 +33,7 @@ class SerialPort {
   int baud_;
   int fd_ = -1;
   std::string partial_;
+  bool discarding_ = false;  // inside an overlong line: skip to its end
   size_t overlong_lines_ = 0;
 };
 

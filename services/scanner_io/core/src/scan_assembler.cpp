@@ -30,19 +30,16 @@ ScanOutput ScanAssembler::add(const DeviceLine& line, double now) {
     case LineKind::Lap:
       if (line.counted && line.revolution == 0 && laps_in_scan_ > 0) abort();  // a new scan began
       if (line.counted) current_.index = line.revolution;
-      ++laps_in_scan_;
-      current_.scan = scan_index_;
-      scan_points_.insert(scan_points_.end(), current_.points.begin(), current_.points.end());
-      out.revolution = std::move(current_);
-      current_ = Revolution{};
-      current_.index = out.revolution->index + 1;
-      ++counters_.revolutions;
+      // The thesis firmware's 'n' also comes before the first revolution: nothing to close.
+      if (line.counted || !current_.measurements.empty()) out.revolution = close_revolution();
       break;
     case LineKind::Done:
       if (line.counted && laps_in_scan_ != line.revolution) {
         abort();  // joined mid-scan or lost laps: not a whole scan
         break;
       }
+      // Thesis lines end the last revolution with 'd' alone.
+      if (!current_.measurements.empty()) out.revolution = close_revolution();
       out.scan = std::move(scan_points_);
       scan_points_.clear();
       current_ = Revolution{};
@@ -55,6 +52,17 @@ ScanOutput ScanAssembler::add(const DeviceLine& line, double now) {
       break;
   }
   return out;
+}
+
+Revolution ScanAssembler::close_revolution() {
+  ++laps_in_scan_;
+  ++counters_.revolutions;
+  current_.scan = scan_index_;
+  scan_points_.insert(scan_points_.end(), current_.points.begin(), current_.points.end());
+  Revolution closed = std::move(current_);
+  current_ = Revolution{};
+  current_.index = closed.index + 1;
+  return closed;
 }
 
 void ScanAssembler::track_sequence(uint32_t sequence) {

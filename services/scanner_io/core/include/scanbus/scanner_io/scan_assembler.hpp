@@ -52,6 +52,7 @@ class ScanAssembler {
 
  private:
   void track_sequence(uint32_t sequence);
+  Revolution close_revolution();
 
   RangeGate gate_;
   ScanCounters counters_;

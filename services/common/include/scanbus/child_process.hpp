@@ -1,5 +1,5 @@
-// A program started by the CLI (a service, the simulator), stopped with SIGTERM when this
-// object goes away. Its stdout and stderr go to a log file.
+// A program started as a separate process (a service, the simulator), stopped with
+// SIGTERM when this object goes away. Its stdout and stderr go to a log file.
 #pragma once
 
 #include <sys/types.h>
@@ -8,12 +8,11 @@
 #include <string>
 #include <vector>
 
-namespace scanbus::cli {
+namespace scanbus {
 
 class ChildProcess {
  public:
-  // argv[0] is run from this executable's own path (`scanbus ...`).
-  ChildProcess(const std::vector<std::string>& arguments, const std::string& log_path);
+  ChildProcess(const std::string& executable, const std::vector<std::string>& arguments, const std::string& log_path);
   ~ChildProcess();
   ChildProcess(const ChildProcess&) = delete;
   ChildProcess& operator=(const ChildProcess&) = delete;
@@ -29,4 +28,7 @@ class ChildProcess {
   int exit_status_ = 0;
 };
 
-}  // namespace scanbus::cli
+// This program's own executable (to start `scanbus run ...` from the scanbus command).
+std::string own_executable();
+
+}  // namespace scanbus

@@ -1,4 +1,4 @@
-#include "child_process.hpp"
+#include "scanbus/child_process.hpp"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -11,14 +11,22 @@
 
 extern char** environ;
 
-namespace scanbus::cli {
+namespace scanbus {
 
-ChildProcess::ChildProcess(const std::vector<std::string>& arguments, const std::string& log_path)
-    : name_(arguments.empty() ? "" : arguments.front()), log_path_(log_path) {
+std::string own_executable() {
   char self[4096] = {};
   if (readlink("/proc/self/exe", self, sizeof(self) - 1) < 0) throw std::runtime_error("cannot find own executable");
+  return self;
+}
+
+ChildProcess::ChildProcess(const std::string& executable, const std::vector<std::string>& arguments,
+                           const std::string& log_path)
+    : log_path_(log_path) {
+  name_ = executable.substr(executable.rfind('/') + 1);  // e.g. "scanbus run scanner_io"
+  for (size_t i = 0; i < arguments.size() && i < 2; ++i) name_ += " " + arguments[i];
+  std::string program = executable;
   std::vector<std::string> words = arguments;
-  std::vector<char*> argv = {self};
+  std::vector<char*> argv = {program.data()};
   for (auto& word : words) argv.push_back(word.data());
   argv.push_back(nullptr);
   posix_spawn_file_actions_t actions;
@@ -32,7 +40,7 @@ ChildProcess::ChildProcess(const std::vector<std::string>& arguments, const std:
   sigemptyset(&none);
   posix_spawnattr_setsigmask(&attributes, &none);
   posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK);
-  const int error = posix_spawn(&pid_, self, &actions, &attributes, argv.data(), environ);
+  const int error = posix_spawn(&pid_, program.c_str(), &actions, &attributes, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   posix_spawnattr_destroy(&attributes);
   if (error != 0) throw std::runtime_error("cannot start " + name_ + ": " + std::strerror(error));
@@ -54,4 +62,4 @@ std::optional<int> ChildProcess::exited() {
   return pid_ == 0 ? std::optional<int>(exit_status_) : std::nullopt;
 }
 
-}  // namespace scanbus::cli
+}  // namespace scanbus
