@@ -7,3 +7,4 @@ if ! make -C "$(dirname "$0")/scanner" OBJDIR="$objdir" > "$objdir/build.log" 2>
   cat "$objdir/build.log"
   exit 1
 fi
+"$(dirname "$0")/check_size.sh" "$objdir/scanner.elf"

@@ -45,14 +45,14 @@ class ScannerObserver {
   // Waits until `done` holds (checked under the lock) or the timeout; false on timeout.
   bool wait_until(const std::function<bool()>& done, std::chrono::seconds timeout) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
-    while (std::chrono::steady_clock::now() < deadline) {
+    for (;;) {  // checked at least once, even with no time to wait
       {
         std::lock_guard<std::mutex> lock(mutex);
         if (done()) return true;
       }
+      if (std::chrono::steady_clock::now() >= deadline) return false;
       std::this_thread::sleep_for(50ms);
     }
-    return false;
   }
 
   std::mutex mutex;
@@ -219,6 +219,9 @@ TEST_F(ScannerPipeline, DamagedStreamIsCountedNeverFatal) {
   auto scanner_io = start_scanner_io("  autostart: false\n");
   ASSERT_TRUE(observer_->wait_until([&] { return !observer_->scans.empty(); }, 30s)) << log("scanner_io.log");
   ASSERT_TRUE(observer_->wait_until([&] { return observer_->counters["scans"] == 1; }, 5s));
+  // ScannerStatus carries the same counts, once its next periodic sample is out.
+  EXPECT_TRUE(observer_->wait_until(
+      [&] { return !observer_->statuses.empty() && observer_->statuses.back().malformed_lines() == 3; }, 3s));
   std::lock_guard<std::mutex> lock(observer_->mutex);
   EXPECT_EQ(observer_->scans.front().size(), 10u + 8u + 8u);  // two no-returns (1 cm) kept out
   EXPECT_EQ(observer_->counters["lost_lines"], 2u);
@@ -226,6 +229,46 @@ TEST_F(ScannerPipeline, DamagedStreamIsCountedNeverFatal) {
   EXPECT_EQ(observer_->counters["malformed_lines"], 3u);  // garbage, truncated, runaway
   EXPECT_EQ(observer_->counters["out_of_range"], 2u);
   EXPECT_FALSE(scanner_io->exited().has_value());
+  EXPECT_EQ(observer_->statuses.back().checksum_errors(), 1u);
+  EXPECT_EQ(observer_->statuses.back().lost_lines(), 2u);
+  EXPECT_EQ(observer_->statuses.back().out_of_range(), 2u);
+}
+
+TEST_F(ScannerPipeline, CommandsOverDdsStartAndStopTheScanner) {
+  use_domain(75);
+  auto simulator = start_simulator({"--speed", "10"});
+  auto scanner_io = start_scanner_io("  autostart: false\n");
+  Participant participant(DdsSettings{"", "localhost", 75}, "scanbus/test_commands");
+  Writer<scanbus::msg::ScannerCommandPubSubType> commands(participant, "rt/scanner/command");
+  ASSERT_TRUE(commands.wait_for_readers(1, 20s));
+  auto send = [&](uint8_t command, uint8_t resolution) {
+    scanbus::msg::ScannerCommand sample;
+    sample.command(command);
+    sample.resolution(resolution);
+    ASSERT_TRUE(commands.write(sample));
+  };
+  std::this_thread::sleep_for(1s);
+  EXPECT_FALSE(observer_->wait_until([&] { return !observer_->batches.empty(); }, 0s));  // autostart off: nothing yet
+  send(scanbus::msg::ScannerCommand_Constants::SET_RESOLUTION, 2);
+  send(scanbus::msg::ScannerCommand_Constants::START, 0);
+  ASSERT_TRUE(observer_->wait_until([&] { return !observer_->batches.empty(); }, 20s)) << log("scanner_io.log");
+  send(scanbus::msg::ScannerCommand_Constants::STOP, 0);
+  ASSERT_TRUE(observer_->wait_until(
+      [&] {
+        return !observer_->statuses.empty() &&
+               observer_->statuses.back().state() == scanbus::msg::ScannerStatus_Constants::IDLE;
+      },
+      10s));
+  size_t batches = 0;
+  {
+    std::lock_guard<std::mutex> lock(observer_->mutex);
+    batches = observer_->batches.size();
+    // Resolution 2 is 28 RPM: about 107 measurements a revolution.
+    EXPECT_LT(observer_->batches.front().measurements().size(), 110u);
+  }
+  std::this_thread::sleep_for(1500ms);  // 15 s of device time: it would have done 7 revolutions
+  std::lock_guard<std::mutex> lock(observer_->mutex);
+  EXPECT_EQ(observer_->batches.size(), batches);
 }
 
 TEST_F(ScannerPipeline, LegacyThesisStream) {

@@ -3,6 +3,7 @@
 # typed sample intact (a 1,000,000-point cloud among them) and the sender's Health; then
 # SIGTERM must stop the sender cleanly within 1 s.
 set -euo pipefail
+source "$(dirname "$0")/lib.sh"
 probe=$1
 work=$(mktemp -d)
 trap 'kill -9 $(jobs -p) 2>/dev/null || true; rm -rf "$work"' EXIT
@@ -30,12 +31,5 @@ else
   echo "ss (iproute2) not installed: socket check skipped"
 fi
 
-start=$(date +%s%N)
-kill -TERM "$sender"
-sender_status=0
-wait "$sender" || sender_status=$?
-elapsed_ms=$(( ($(date +%s%N) - start) / 1000000 ))
-echo "sender stopped in ${elapsed_ms} ms with status ${sender_status}"
-[ "$sender_status" -eq 0 ] || { cat "$work/sender.err"; exit 1; }
-[ "$elapsed_ms" -le 1000 ] || { echo "sender took longer than 1 s to stop"; exit 1; }
+expect_clean_stop sender "$sender" TERM "$work/sender.err"
 grep -q "intact: PointCloud2" "$work/receiver.out"

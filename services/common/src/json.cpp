@@ -95,7 +95,8 @@ void to_json(json& out, const ScannerStatus& in) {
          {"resolution", in.resolution()},   {"rpm", in.rpm()},
          {"revolutions", in.revolutions()}, {"measurements", in.measurements()},
          {"lost_lines", in.lost_lines()},   {"checksum_errors", in.checksum_errors()},
-         {"message", in.message()}};
+         {"malformed_lines", in.malformed_lines()}, {"out_of_range", in.out_of_range()},
+         {"aborted_scans", in.aborted_scans()}, {"message", in.message()}};
 }
 void to_json(json& out, const ScanMatch& in) {
   out = {{"header", in.header()},         {"pose", in.pose()},

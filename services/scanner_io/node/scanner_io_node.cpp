@@ -256,6 +256,9 @@ class ScannerIo : public Service {
     status.measurements(c.measurements);
     status.lost_lines(c.lost_lines);
     status.checksum_errors(c.checksum_errors);
+    status.malformed_lines(c.malformed_lines + port_.overlong_lines());
+    status.out_of_range(c.out_of_range);
+    status.aborted_scans(c.aborted_scans);
     status.message(message);
     status_.write(status);
   }
