@@ -1,0 +1,66 @@
+// The room thesis's automated dimension calculation (Algorithms 1 to 3), for rooms of any
+// simple polygon of vertical walls: filter, find planes, pick and order the room's walls,
+// intersect them, measure. Input in metres in the scanner frame (scanner at the origin).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scanbus/config.hpp"
+#include "scanbus/room_measurement/histogram_filter.hpp"
+#include "scanbus/room_measurement/planes.hpp"
+#include "scanbus/room_measurement/walls.hpp"
+
+namespace scanbus::room_measurement {
+
+struct RoomSettings {
+  HistogramFilterSettings histogram;
+  double voxel_leaf = 0.05;        // m; 0 skips the VoxelGrid
+  RansacSettings ransac;
+  double min_wall_height = 1.2;    // m of height a plane's inliers must span to be a wall
+  double min_wall_coverage = 0.5;  // and the share of that height they must fill (floor and ceiling
+                                   // points left in one vertical slice span it but fill only its ends)
+  PolygonSettings polygon;
+  size_t max_horizontal_samples = 30000;  // floor and ceiling are found on a subsample
+};
+
+// The `room_measurement` config section (keys documented in config/services/room_measurement.yaml).
+RoomSettings room_settings_from_config(const Config& section);
+
+// Values as in RoomMeasurement_Constants.
+enum class RoomStatus : uint8_t { Ok = 0, TooFewPoints = 1, TooFewWalls = 2, WallsDoNotClose = 3, InputError = 4 };
+const char* status_name(RoomStatus status);
+
+struct MeasuredWall {
+  WallLine line;
+  double length = 0;        // m, corner to corner
+  double length_sigma = 0;  // m, from the offsets' standard errors of this wall and its neighbours
+};
+
+struct RoomResult {
+  RoomStatus status = RoomStatus::Ok;
+  std::string message;
+  std::vector<MeasuredWall> walls;        // in order around the room
+  std::vector<Eigen::Vector2d> corners;   // corners[i] joins walls[i-1] and walls[i]
+  double area = 0, perimeter = 0;
+  std::optional<double> floor_z, ceiling_z;
+  size_t points_in = 0, points_valid = 0, points_after_filter = 0, points_after_voxel = 0;
+  bool voxel_overflow = false;
+  // Section 5.2's diagnostic: distances of the input points near the longest wall to its
+  // plane, in bins of error_bin metres up to 10 cm.
+  double error_bin = 0.005;
+  std::vector<size_t> error_histogram;
+  double elapsed_ms = 0;
+
+  std::optional<double> ceiling_height() const {
+    if (floor_z && ceiling_z) return *ceiling_z - *floor_z;
+    return std::nullopt;
+  }
+};
+
+RoomResult measure_room(const std::vector<Eigen::Vector3f>& points, const RoomSettings& settings);
+
+}  // namespace scanbus::room_measurement

@@ -1,0 +1,171 @@
+#include "scanbus/room_measurement/room_measurement.hpp"
+
+#include <Eigen/LU>
+
+#include <chrono>
+#include <cmath>
+
+namespace scanbus::room_measurement {
+
+namespace {
+
+Eigen::Vector2d intersect(const Eigen::Vector2d& na, double oa, const Eigen::Vector2d& nb, double ob) {
+  Eigen::Matrix2d lines;
+  lines << na.transpose(), nb.transpose();
+  return lines.inverse() * Eigen::Vector2d(oa, ob);
+}
+
+// Corner-to-corner lengths and their one-sigma uncertainty from the offsets' standard
+// errors of the wall and its two neighbours (normal directions taken as exact).
+void measure_lengths(std::vector<MeasuredWall>& walls) {
+  const size_t count = walls.size();
+  for (size_t i = 0; i < count; ++i) {
+    const WallLine& before = walls[(i + count - 1) % count].line;
+    const WallLine& wall = walls[i].line;
+    const WallLine& after = walls[(i + 1) % count].line;
+    auto length = [&](double d_before, double d_wall, double d_after) {
+      const Eigen::Vector2d start = intersect(before.normal, before.offset + d_before, wall.normal, wall.offset + d_wall);
+      const Eigen::Vector2d end = intersect(wall.normal, wall.offset + d_wall, after.normal, after.offset + d_after);
+      return (end - start).norm();
+    };
+    walls[i].length = length(0, 0, 0);
+    const double by_before = length(before.offset_sigma, 0, 0) - walls[i].length;
+    const double by_wall = length(0, wall.offset_sigma, 0) - walls[i].length;
+    const double by_after = length(0, 0, after.offset_sigma) - walls[i].length;
+    walls[i].length_sigma = std::sqrt(by_before * by_before + by_wall * by_wall + by_after * by_after);
+  }
+}
+
+// The floor is the lowest well-supported horizontal plane below the scanner, the ceiling
+// the highest above it: tables, beds and sofa tops are planes too, and from a scanner that
+// looks down at most 30 degrees they can hold more points than the floor.
+void find_floor_and_ceiling(const std::vector<Eigen::Vector3f>& points, const RoomSettings& settings, RoomResult& result) {
+  std::vector<Eigen::Vector3f> sample;
+  const size_t stride = std::max<size_t>(1, points.size() / settings.max_horizontal_samples);
+  for (size_t i = 0; i < points.size(); i += stride) sample.push_back(points[i]);
+  RansacSettings ransac = settings.ransac;
+  ransac.max_planes = 8;
+  ransac.min_inliers = std::max(settings.ransac.min_inliers, sample.size() / 50);
+  for (const Plane& plane : extract_planes(sample, false, ransac)) {
+    const double z = -plane.coefficients(3) / plane.coefficients(2);
+    if (z < 0 && (!result.floor_z || z < *result.floor_z)) result.floor_z = z;
+    if (z > 0 && (!result.ceiling_z || z > *result.ceiling_z)) result.ceiling_z = z;
+  }
+}
+
+void error_histogram(const std::vector<Eigen::Vector3f>& points, RoomResult& result) {
+  if (result.walls.empty()) return;
+  const auto longest = std::max_element(result.walls.begin(), result.walls.end(),
+                                        [](const auto& a, const auto& b) { return a.length < b.length; });
+  const WallLine& wall = longest->line;
+  result.error_histogram.assign(static_cast<size_t>(0.10 / result.error_bin), 0);
+  for (const auto& p : points) {
+    const Eigen::Vector2d xy = p.head<2>().cast<double>();
+    const double distance = std::abs(wall.normal.dot(xy) - wall.offset);
+    const double along = wall.direction().dot(xy);
+    if (distance >= 0.10 || along < wall.start || along > wall.end) continue;
+    ++result.error_histogram[static_cast<size_t>(distance / result.error_bin)];
+  }
+}
+
+RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings& settings) {
+  RoomResult result;
+  result.points_in = input.size();
+  std::vector<Eigen::Vector3f> valid;
+  valid.reserve(input.size());
+  for (const auto& p : input)
+    if (p.allFinite()) valid.push_back(p);
+  result.points_valid = valid.size();
+  if (valid.size() < settings.ransac.min_inliers * 3) {
+    result.status = RoomStatus::TooFewPoints;
+    result.message = std::to_string(valid.size()) + " valid points: too few to find walls";
+    return result;
+  }
+  find_floor_and_ceiling(valid, settings, result);
+
+  std::vector<Eigen::Vector3f> walls_only = histogram_filter(valid, settings.histogram);
+  result.points_after_filter = walls_only.size();
+  if (settings.voxel_leaf > 0) {
+    VoxelResult voxels = voxel_grid(walls_only, settings.voxel_leaf);
+    result.voxel_overflow = voxels.overflow;
+    walls_only = std::move(voxels.points);
+  }
+  result.points_after_voxel = walls_only.size();
+
+  std::vector<WallLine> candidates;
+  for (Plane& plane : extract_planes(walls_only, true, settings.ransac)) {
+    WallLine wall = fit_wall(std::move(plane.inliers));
+    if (wall.z_high - wall.z_low >= settings.min_wall_height && wall.z_coverage >= settings.min_wall_coverage)
+      candidates.push_back(std::move(wall));
+  }
+  candidates = merge_collinear(std::move(candidates), 3 * M_PI / 180, settings.ransac.distance / 2,
+                               3 * settings.ransac.distance);
+  if (candidates.size() < 3) {
+    result.status = RoomStatus::TooFewWalls;
+    result.message = "found " + std::to_string(candidates.size()) + " wall planes, a room needs at least 3";
+    return result;
+  }
+  std::string why;
+  const std::optional<Polygon> polygon = room_polygon(candidates, settings.polygon, why);
+  if (!polygon) {
+    result.status = RoomStatus::WallsDoNotClose;
+    result.message = why;
+    return result;
+  }
+  for (size_t index : polygon->walls) result.walls.push_back({candidates[index], 0, 0});
+  result.corners = polygon->corners;
+  measure_lengths(result.walls);
+  result.area = polygon_area(result.corners);
+  for (const auto& wall : result.walls) result.perimeter += wall.length;
+  error_histogram(valid, result);
+  result.message = std::to_string(result.walls.size()) + " walls";
+  if (result.voxel_overflow) result.message += "; VoxelGrid skipped: the cloud spans too far for 32-bit voxel indices";
+  return result;
+}
+
+}  // namespace
+
+const char* status_name(RoomStatus status) {
+  switch (status) {
+    case RoomStatus::Ok: return "ok";
+    case RoomStatus::TooFewPoints: return "too_few_points";
+    case RoomStatus::TooFewWalls: return "too_few_walls";
+    case RoomStatus::WallsDoNotClose: return "walls_do_not_close";
+    case RoomStatus::InputError: return "input_error";
+  }
+  return "unknown";
+}
+
+RoomResult measure_room(const std::vector<Eigen::Vector3f>& points, const RoomSettings& settings) {
+  const auto started = std::chrono::steady_clock::now();
+  RoomResult result = measure(points, settings);
+  result.elapsed_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+  return result;
+}
+
+RoomSettings room_settings_from_config(const Config& section) {
+  RoomSettings s;
+  const Config histogram = section.section("histogram");
+  s.histogram.bins = static_cast<int>(histogram.integer("bins", s.histogram.bins, 1, 10000));
+  s.histogram.min_range = histogram.number("min_range", s.histogram.min_range, 0, 100);
+  s.histogram.min_points = static_cast<int>(histogram.integer("min_points", s.histogram.min_points, 1, 1000000));
+  s.histogram.min_z_spread = histogram.number("min_z_spread", s.histogram.min_z_spread, 0, 100);
+  s.voxel_leaf = section.number("voxel_leaf", s.voxel_leaf, 0, 10);
+  const Config ransac = section.section("ransac");
+  s.ransac.distance = ransac.number("distance", s.ransac.distance, 0.001, 1);
+  s.ransac.eps_angle_deg = ransac.number("eps_angle", s.ransac.eps_angle_deg, 0.01, 45);
+  s.ransac.iterations = static_cast<int>(ransac.integer("iterations", s.ransac.iterations, 1, 1000000));
+  s.ransac.min_inliers = static_cast<size_t>(ransac.integer("min_inliers", 50, 3, 10000000));
+  s.ransac.max_planes = static_cast<int>(ransac.integer("max_planes", s.ransac.max_planes, 1, 1000));
+  s.min_wall_height = section.number("min_wall_height", s.min_wall_height, 0, 100);
+  s.min_wall_coverage = section.number("min_wall_coverage", s.min_wall_coverage, 0, 1);
+  const Config polygon = section.section("polygon");
+  s.polygon.min_wall_angle_deg = polygon.number("min_wall_angle", s.polygon.min_wall_angle_deg, 1, 89);
+  s.polygon.min_run_deg = polygon.number("min_run", s.polygon.min_run_deg, 0, 90);
+  s.polygon.max_gap_deg = polygon.number("max_gap", s.polygon.max_gap_deg, 0, 180);
+  s.polygon.extent_tolerance = polygon.number("extent_tolerance", s.polygon.extent_tolerance, 0, 10);
+  s.polygon.corner_margin = polygon.number("corner_margin", s.polygon.corner_margin, 0, 100);
+  return s;
+}
+
+}  // namespace scanbus::room_measurement
