@@ -2,13 +2,76 @@
 
 #include <cairo.h>
 #include <pcl/io/pcd_io.h>
+#include <pcl/io/ply_io.h>
 #include <pcl/point_types.h>
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 namespace scanbus::cli {
+
+namespace {
+
+std::string extension_of(const std::string& path) {
+  const size_t dot = path.rfind('.');
+  std::string extension = dot == std::string::npos ? "" : path.substr(dot + 1);
+  std::transform(extension.begin(), extension.end(), extension.begin(), ::tolower);
+  return extension;
+}
+
+std::vector<Eigen::Vector3f> read_xyz(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<Eigen::Vector3f> points;
+  std::string line;
+  for (size_t number = 1; std::getline(in, line); ++number) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream words(line);
+    float x, y, z;
+    if (!(words >> x >> y >> z))
+      throw CloudFileError(path + ":" + std::to_string(number) + ": expected 'x y z', got '" + line.substr(0, 60) + "'");
+    points.emplace_back(x, y, z);
+  }
+  return points;
+}
+
+// Blue (low) to red (high), like RViz's rainbow.
+void height_colour(double t, double& r, double& g, double& b) {
+  t = std::clamp(t, 0.0, 1.0);
+  r = std::clamp(1.5 - std::abs(4 * t - 3), 0.0, 1.0);
+  g = std::clamp(1.5 - std::abs(4 * t - 2), 0.0, 1.0);
+  b = std::clamp(1.5 - std::abs(4 * t - 1), 0.0, 1.0);
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3f> read_cloud(const std::string& path, double scale) {
+  if (!std::ifstream(path)) throw CloudFileError(path + ": cannot open");
+  const std::string extension = extension_of(path);
+  std::vector<Eigen::Vector3f> points;
+  if (extension == "xyz" || extension == "txt") {
+    points = read_xyz(path);
+  } else if (extension == "pcd" || extension == "ply") {
+    pcl::PointCloud<pcl::PointXYZ> cloud;
+    int status = -1;
+    try {
+      status = extension == "pcd" ? pcl::io::loadPCDFile(path, cloud) : pcl::PLYReader().read(path, cloud);
+    } catch (const std::exception& e) {  // PCL throws on some damage and returns -1 on other
+      throw CloudFileError(path + ": not a readable " + extension + " file: " + e.what());
+    }
+    if (status < 0) throw CloudFileError(path + ": not a readable " + extension + " file");
+    points.reserve(cloud.size());
+    for (const auto& p : cloud) points.emplace_back(p.x, p.y, p.z);
+  } else {
+    throw CloudFileError(path + ": unknown format '." + extension + "' (pcd, ply, xyz)");
+  }
+  if (points.empty()) throw CloudFileError(path + ": no points");
+  if (scale != 1.0)
+    for (auto& p : points) p *= static_cast<float>(scale);
+  return points;
+}
 
 void write_pcd(const std::string& path, const std::vector<CloudPoint>& points) {
   pcl::PointCloud<pcl::PointXYZI> cloud;
@@ -24,17 +87,6 @@ void write_pcd(const std::string& path, const std::vector<CloudPoint>& points) {
     throw std::runtime_error(path + ": cannot write PCD" + (cloud.empty() ? " (no points)" : ""));
 }
 
-namespace {
-
-// Blue (low) to red (high), like RViz's rainbow.
-void height_colour(double t, double& r, double& g, double& b) {
-  t = std::clamp(t, 0.0, 1.0);
-  r = std::clamp(1.5 - std::abs(4 * t - 3), 0.0, 1.0);
-  g = std::clamp(1.5 - std::abs(4 * t - 2), 0.0, 1.0);
-  b = std::clamp(1.5 - std::abs(4 * t - 1), 0.0, 1.0);
-}
-
-}  // namespace
 
 void write_top_view_png(const std::string& path, const std::vector<CloudPoint>& points, const std::string& title) {
   if (points.empty()) throw std::runtime_error(path + ": no points to draw");

@@ -2,6 +2,7 @@
 // height-coloured top view as PNG. Only this file's .cpp includes PCL.
 #pragma once
 
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,15 @@ namespace scanbus::cli {
 
 // Binary PCD, fields x y z intensity. Throws std::runtime_error naming the path.
 void write_pcd(const std::string& path, const std::vector<CloudPoint>& points);
+
+// PCD, PLY or XYZ text (x y z per line, more columns ignored), by extension, scaled by
+// `scale` to metres. Non-finite points are kept (the caller counts and drops them).
+// Throws CloudFileError naming the file and the problem.
+class CloudFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+std::vector<Eigen::Vector3f> read_cloud(const std::string& path, double scale);
 
 // Top view (x right, y up), points coloured by height, 1 m grid. Throws on failure.
 void write_top_view_png(const std::string& path, const std::vector<CloudPoint>& points, const std::string& title);

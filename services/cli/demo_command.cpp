@@ -1,5 +1,6 @@
 // The main job: scan the built-in room through the real path (firmware simulator on a
-// serial line, scanner_io as its own process, DDS) and report what came out.
+// serial line, scanner_io and room_measurement as their own processes, DDS) and report
+// the room that came out.
 #include <unistd.h>
 
 #include <cstdio>
@@ -8,6 +9,8 @@
 
 #include "cloud_files.hpp"
 #include "commands.hpp"
+#include "floor_plan.hpp"
+#include "room_report.hpp"
 #include "room_scan.hpp"
 
 namespace scanbus::cli {
@@ -18,7 +21,7 @@ struct DemoOptions {
   DdsOptions dds;
   std::string out = "out";
   bool json = false;
-  double speed = 20;
+  double speed = 40;
 };
 
 int run_demo(const DemoOptions& options) {
@@ -27,6 +30,8 @@ int run_demo(const DemoOptions& options) {
   scan.dds = options.dds;
   scan.speed = options.speed;
   scan.resolution = 1;  // the thesis's usual setting: 20 RPM
+  scan.scans = 3;       // interleaved by eq. 4.9: one scan is too sparse for the histogram filter
+  scan.measure = true;
   scan.work_dir = options.out;
   scan.progress = !options.json && isatty(STDOUT_FILENO);
   const RoomScanResult result = run_room_scan(scan);
@@ -36,23 +41,28 @@ int run_demo(const DemoOptions& options) {
     low = low.cwiseMin(point.position);
     high = high.cwiseMax(point.position);
   }
-  const std::string pcd = options.out + "/scan.pcd", png = options.out + "/room_top.png";
+  const room_measurement::RoomResult room = room_from_message(*result.room);
+  const std::string pcd = options.out + "/scan.pcd", png = options.out + "/room_top.png",
+                    plan = options.out + "/floor_plan.png";
   write_pcd(pcd, result.points);
   write_top_view_png(png, result.points, "scanbus demo: built-in room (thesis case 1), simulated scan");
+  std::vector<Eigen::Vector3f> background;
+  for (const auto& point : result.points) background.push_back(point.position);
+  write_floor_plan(plan, room, "scanbus demo: built-in room (thesis case 1, 5.47 m x 3.48 m)", background);
   if (options.json) {
     std::cout << nlohmann::json{{"points", result.points.size()},
                                 {"revolutions", result.revolutions},
                                 {"extent_min", {low.x(), low.y(), low.z()}},
                                 {"extent_max", {high.x(), high.y(), high.z()}},
-                                {"files", {pcd, png}}}
+                                {"room", room_json(room)},
+                                {"files", {pcd, png, plan}}}
               << "\n";
   } else {
     std::printf("scan of the built-in room: %zu points from %u revolutions\n", result.points.size(), result.revolutions);
-    std::printf("cloud extent: x %.2f..%.2f m, y %.2f..%.2f m, z %.2f..%.2f m\n", low.x(), high.x(), low.y(), high.y(),
-                low.z(), high.z());
-    std::printf("wrote %s and %s\n", pcd.c_str(), png.c_str());
+    std::printf("%s", room_text(room).c_str());
+    std::printf("wrote %s, %s and %s\n", pcd.c_str(), png.c_str(), plan.c_str());
   }
-  return 0;
+  return room.status == room_measurement::RoomStatus::Ok ? 0 : 1;
 }
 
 }  // namespace

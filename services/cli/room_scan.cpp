@@ -8,8 +8,10 @@
 #include <fstream>
 #include <mutex>
 #include <optional>
+#include <string>
 
 #include "PointCloud2PubSubTypes.h"
+#include "RoomMeasurementPubSubTypes.h"
 #include "scanbus/child_process.hpp"
 #include "scanbus/point_cloud.hpp"
 #include "scanbus/service.hpp"
@@ -34,25 +36,36 @@ RoomScanResult run_room_scan(const RoomScanOptions& options) {
   const std::string link = options.work_dir + "/scanner.tty";
   const std::string config = options.work_dir + "/scanner_io.yaml";
   std::ofstream(config) << "service:\n  health_period: 0.5\nscanner_io:\n  port: " << link
-                        << "\n  resolution: " << options.resolution << "\n  scans: 1\n  reconnect_min: 0.05\n";
+                        << "\n  resolution: " << options.resolution << "\n  scans: " << options.scans
+                        << "\n  reconnect_min: 0.05\n";
+  const std::string room_config = options.work_dir + "/room_measurement.yaml";
+  std::ofstream(room_config) << "service:\n  health_period: 0.5\nroom_measurement:\n  scans: " << options.scans << "\n";
   // The services read their DDS settings from the environment: same domain and profile as ours.
   setenv("SCANBUS_DOMAIN_ID", std::to_string(options.dds.domain).c_str(), 1);
   if (!options.dds.profile_file.empty()) setenv("SCANBUS_DDS_PROFILE_FILE", options.dds.profile_file.c_str(), 1);
 
   Participant participant(DdsSettings{options.dds.profile_file, "localhost", options.dds.domain}, "scanbus/scan");
   std::mutex mutex;
-  std::optional<RoomScanResult> result;
-  unsigned revolutions = 0;
+  RoomScanResult result;
+  int scans = 0;
+  const unsigned total_revolutions = kRevolutionsPerScan * static_cast<unsigned>(options.scans);
   Reader<sensor_msgs::msg::PointCloud2PubSubType> revolution_reader(
       participant, "rt/scanner/cloud", QosSettings{true, false, false, 50}, [&](const auto&, const auto&) {
         std::lock_guard<std::mutex> lock(mutex);
-        ++revolutions;
-        if (options.progress) std::printf("\rscanning: revolution %u of %u", revolutions, kRevolutionsPerScan), std::fflush(stdout);
+        ++result.revolutions;
+        if (options.progress) std::printf("\rscanning: revolution %u of %u", result.revolutions, total_revolutions), std::fflush(stdout);
       });
   Reader<sensor_msgs::msg::PointCloud2PubSubType> scan_reader(
       participant, "rt/scanner/scan_cloud", [&](const auto& cloud, const auto&) {
         std::lock_guard<std::mutex> lock(mutex);
-        result = RoomScanResult{from_point_cloud2(cloud), revolutions};
+        const auto points = from_point_cloud2(cloud);
+        result.points.insert(result.points.end(), points.begin(), points.end());
+        if (++scans == options.scans && !options.measure) StopSignal::request();
+      });
+  Reader<scanbus::msg::RoomMeasurementPubSubType> room_reader(
+      participant, "rt/room/measurement", [&](const auto& room, const auto&) {
+        std::lock_guard<std::mutex> lock(mutex);
+        result.room = room;
         StopSignal::request();
       });
 
@@ -60,17 +73,23 @@ RoomScanResult run_room_scan(const RoomScanOptions& options) {
   if (!options.room_file.empty()) sim.insert(sim.end(), {"--room", options.room_file});
   ChildProcess simulator(own_executable(), sim, options.work_dir + "/scanner_sim.log");
   ChildProcess scanner_io(own_executable(), {"run", "scanner_io", "--config", config}, options.work_dir + "/scanner_io.log");
+  std::optional<ChildProcess> room_measurement;
+  if (options.measure)
+    room_measurement.emplace(own_executable(), std::vector<std::string>{"run", "room_measurement", "--config", room_config},
+                             options.work_dir + "/room_measurement.log");
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.timeout);
   while (!StopSignal::wait_for(std::chrono::milliseconds(100))) {
     check_alive(simulator);
     check_alive(scanner_io);
+    if (room_measurement) check_alive(*room_measurement);
     if (std::chrono::steady_clock::now() > deadline)
       throw std::runtime_error("no complete scan within " + std::to_string(static_cast<int>(options.timeout)) + " s");
   }
   if (options.progress) std::printf("\n");
   std::lock_guard<std::mutex> lock(mutex);
-  if (!result) throw std::runtime_error("interrupted before the scan completed");
-  return *result;
+  if (scans < options.scans || (options.measure && !result.room))
+    throw std::runtime_error("interrupted before the scan completed");
+  return result;
 }
 
 }  // namespace scanbus::cli

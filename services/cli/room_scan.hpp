@@ -1,10 +1,13 @@
-// One full scan of a simulated room through the real path: the firmware simulator on a
-// pty, scanner_io reading it as a separate process, the clouds back over DDS.
+// Full scans of a simulated room through the real path: the firmware simulator on a pty,
+// scanner_io reading it and, when asked, room_measurement, each a separate process; the
+// clouds and the measurement back over DDS.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "RoomMeasurement.h"
 #include "commands.hpp"
 #include "scanbus/cloud_point.hpp"
 
@@ -18,11 +21,14 @@ struct RoomScanOptions {
   std::string work_dir;    // logs and the pty link go here
   bool progress = false;   // a line of progress on the terminal
   double timeout = 600;    // s
+  int scans = 1;           // whole scans in a row (each next one interleaves its pitch, eq. 4.9)
+  bool measure = false;    // also run room_measurement and wait for its RoomMeasurement
 };
 
 struct RoomScanResult {
-  std::vector<CloudPoint> points;
+  std::vector<CloudPoint> points;  // every scan's points
   unsigned revolutions = 0;
+  std::optional<scanbus::msg::RoomMeasurement> room;
 };
 
 // Throws std::runtime_error naming what failed (a process that died, with its log).

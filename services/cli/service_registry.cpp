@@ -1,11 +1,13 @@
 #include "service_registry.hpp"
 
+#include "room_measurement_node.hpp"
 #include "scanner_io_node.hpp"
 
 namespace scanbus::cli {
 
 const std::map<std::string, ServiceFactory>& service_registry() {
   static const std::map<std::string, ServiceFactory> registry = {
+      {"room_measurement", room_measurement::make_room_measurement},
       {"scanner_io", scanner_io::make_scanner_io},
   };
   return registry;

@@ -40,7 +40,7 @@ void expect_accurate(const std::string& name) {
       if (d < best_distance) best_distance = d, best = i;
     }
     std::printf("%s: wall %.4f m (true %.4f, +-%.4f, rms %.4f, %zu inliers)\n", name.c_str(), wall.length, truth[best],
-                wall.length_sigma, wall.line.rms, wall.line.inliers.size());
+                wall.length_sigma, wall.line.rms, wall.points);
     EXPECT_NEAR(wall.length, truth[best], 0.01) << name << " wall " << best;
   }
   std::printf("%s: area %.4f m2 (true %.4f), %zu points in, %zu after filter, %.1f ms\n", name.c_str(), result.area,

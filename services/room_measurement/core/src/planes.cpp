@@ -1,5 +1,6 @@
 #include "scanbus/room_measurement/planes.hpp"
 
+#include <pcl/console/print.h>
 #include <pcl/filters/voxel_grid.h>
 #include <pcl/point_types.h>
 #include <pcl/sample_consensus/method_types.h>
@@ -57,6 +58,8 @@ std::vector<Plane> extract_planes(const std::vector<Eigen::Vector3f>& points, bo
   centre /= static_cast<float>(points.size());
   auto remaining = to_pcl(points, centre);
 
+  // PCL reports "no model found" on stderr; it is an expected end of the loop here.
+  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
   pcl::SACSegmentation<pcl::PointXYZ> segmentation;
   segmentation.setOptimizeCoefficients(true);
   segmentation.setModelType(vertical ? pcl::SACMODEL_PARALLEL_PLANE : pcl::SACMODEL_PERPENDICULAR_PLANE);

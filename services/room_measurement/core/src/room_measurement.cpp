@@ -2,6 +2,7 @@
 
 #include <Eigen/LU>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -47,10 +48,38 @@ void find_floor_and_ceiling(const std::vector<Eigen::Vector3f>& points, const Ro
   ransac.max_planes = 8;
   ransac.min_inliers = std::max(settings.ransac.min_inliers, sample.size() / 50);
   for (const Plane& plane : extract_planes(sample, false, ransac)) {
-    const double z = -plane.coefficients(3) / plane.coefficients(2);
+    // The inliers' median height: a plane tilted within the eps angle is off at the origin.
+    std::vector<float> heights;
+    for (const auto& p : plane.inliers) heights.push_back(p.z());
+    std::nth_element(heights.begin(), heights.begin() + static_cast<long>(heights.size() / 2), heights.end());
+    const double z = heights[heights.size() / 2];
     if (z < 0 && (!result.floor_z || z < *result.floor_z)) result.floor_z = z;
     if (z > 0 && (!result.ceiling_z || z > *result.ceiling_z)) result.ceiling_z = z;
   }
+}
+
+// The final fit of a room wall: every filtered point within `band` of its line, away from
+// its ends (where the neighbouring wall's points come within the band), fitted again,
+// twice. RANSAC's inliers are voxel centres cut off at its distance threshold.
+WallLine refine_wall(const WallLine& wall, const std::vector<Eigen::Vector3f>& points, double band) {
+  WallLine fitted = wall;
+  for (int round = 0; round < 2; ++round) {
+    std::vector<Eigen::Vector3f> near;
+    for (const auto& p : points) {
+      const Eigen::Vector2d xy = p.head<2>().cast<double>();
+      const double along = fitted.direction().dot(xy);
+      if (std::abs(fitted.normal.dot(xy) - fitted.offset) < band && along > fitted.start + band && along < fitted.end - band)
+        near.push_back(p);
+    }
+    if (near.size() < 10) break;
+    const WallLine refit = fit_wall(std::move(near));
+    fitted.normal = refit.normal;
+    fitted.offset = refit.offset;
+    fitted.rms = refit.rms;
+    fitted.offset_sigma = refit.offset_sigma;
+    fitted.inliers = refit.inliers;
+  }
+  return fitted;
 }
 
 void error_histogram(const std::vector<Eigen::Vector3f>& points, RoomResult& result) {
@@ -83,10 +112,11 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
   }
   find_floor_and_ceiling(valid, settings, result);
 
-  std::vector<Eigen::Vector3f> walls_only = histogram_filter(valid, settings.histogram);
-  result.points_after_filter = walls_only.size();
+  const std::vector<Eigen::Vector3f> filtered = histogram_filter(valid, settings.histogram);
+  result.points_after_filter = filtered.size();
+  std::vector<Eigen::Vector3f> walls_only = filtered;
   if (settings.voxel_leaf > 0) {
-    VoxelResult voxels = voxel_grid(walls_only, settings.voxel_leaf);
+    VoxelResult voxels = voxel_grid(filtered, settings.voxel_leaf);
     result.voxel_overflow = voxels.overflow;
     walls_only = std::move(voxels.points);
   }
@@ -95,11 +125,13 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
   std::vector<WallLine> candidates;
   for (Plane& plane : extract_planes(walls_only, true, settings.ransac)) {
     WallLine wall = fit_wall(std::move(plane.inliers));
-    if (wall.z_high - wall.z_low >= settings.min_wall_height && wall.z_coverage >= settings.min_wall_coverage)
+    if (wall.z_high - wall.z_low >= settings.min_wall_height && wall.z_coverage >= settings.min_wall_coverage &&
+        wall.length_coverage >= settings.min_wall_fill)
       candidates.push_back(std::move(wall));
   }
   candidates = merge_collinear(std::move(candidates), 3 * M_PI / 180, settings.ransac.distance / 2,
                                3 * settings.ransac.distance);
+  result.candidates = candidates;
   if (candidates.size() < 3) {
     result.status = RoomStatus::TooFewWalls;
     result.message = "found " + std::to_string(candidates.size()) + " wall planes, a room needs at least 3";
@@ -112,8 +144,17 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
     result.message = why;
     return result;
   }
-  for (size_t index : polygon->walls) result.walls.push_back({candidates[index], 0, 0});
-  result.corners = polygon->corners;
+  for (size_t index : polygon->walls) {
+    MeasuredWall wall{refine_wall(candidates[index], filtered, 2 * settings.ransac.distance), 0, 0, 0};
+    wall.points = wall.line.inliers.size();
+    result.walls.push_back(std::move(wall));
+  }
+  const size_t count = result.walls.size();
+  for (size_t i = 0; i < count; ++i) {  // corners of the refined walls
+    const WallLine& before = result.walls[(i + count - 1) % count].line;
+    const WallLine& wall = result.walls[i].line;
+    result.corners.push_back(intersect(before.normal, before.offset, wall.normal, wall.offset));
+  }
   measure_lengths(result.walls);
   result.area = polygon_area(result.corners);
   for (const auto& wall : result.walls) result.perimeter += wall.length;
@@ -159,6 +200,7 @@ RoomSettings room_settings_from_config(const Config& section) {
   s.ransac.max_planes = static_cast<int>(ransac.integer("max_planes", s.ransac.max_planes, 1, 1000));
   s.min_wall_height = section.number("min_wall_height", s.min_wall_height, 0, 100);
   s.min_wall_coverage = section.number("min_wall_coverage", s.min_wall_coverage, 0, 1);
+  s.min_wall_fill = section.number("min_wall_fill", s.min_wall_fill, 0, 1);
   const Config polygon = section.section("polygon");
   s.polygon.min_wall_angle_deg = polygon.number("min_wall_angle", s.polygon.min_wall_angle_deg, 1, 89);
   s.polygon.min_run_deg = polygon.number("min_run", s.polygon.min_run_deg, 0, 90);

@@ -17,6 +17,15 @@ double percentile(std::vector<double> values, double fraction) {
   return values[index];
 }
 
+// Share of `slot`-wide slots between low and high that hold at least one value.
+double coverage(const std::vector<double>& values, double low, double high, double slot) {
+  const int slots = std::max(1, static_cast<int>(std::ceil((high - low) / slot)));
+  std::vector<bool> occupied(static_cast<size_t>(slots), false);
+  for (double v : values)
+    if (v >= low && v <= high) occupied[std::min(slots - 1, static_cast<int>((v - low) / slot))] = true;
+  return static_cast<double>(std::count(occupied.begin(), occupied.end(), true)) / slots;
+}
+
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 bool segments_cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c, const Eigen::Vector2d& d) {
@@ -82,12 +91,8 @@ WallLine fit_wall(std::vector<Eigen::Vector3f> inliers) {
   wall.end = percentile(along, 0.99);
   wall.z_low = percentile(heights, 0.02);
   wall.z_high = percentile(heights, 0.98);
-  const int slices = std::max(1, static_cast<int>(std::ceil((wall.z_high - wall.z_low) / 0.1)));
-  std::vector<bool> occupied(static_cast<size_t>(slices), false);
-  for (double z : heights)
-    if (z >= wall.z_low && z <= wall.z_high)
-      occupied[std::min(slices - 1, static_cast<int>((z - wall.z_low) / 0.1))] = true;
-  wall.z_coverage = static_cast<double>(std::count(occupied.begin(), occupied.end(), true)) / slices;
+  wall.z_coverage = coverage(heights, wall.z_low, wall.z_high, 0.1);
+  wall.length_coverage = coverage(along, wall.start, wall.end, 0.1);
   wall.inliers = std::move(inliers);
   return wall;
 }

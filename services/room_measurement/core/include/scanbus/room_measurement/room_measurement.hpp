@@ -23,6 +23,8 @@ struct RoomSettings {
   double min_wall_height = 1.2;    // m of height a plane's inliers must span to be a wall
   double min_wall_coverage = 0.5;  // and the share of that height they must fill (floor and ceiling
                                    // points left in one vertical slice span it but fill only its ends)
+  double min_wall_fill = 0.5;      // and of their length: RANSAC also fits planes through scattered
+                                   // clutter that happens to line up
   PolygonSettings polygon;
   size_t max_horizontal_samples = 30000;  // floor and ceiling are found on a subsample
 };
@@ -36,6 +38,7 @@ const char* status_name(RoomStatus status);
 
 struct MeasuredWall {
   WallLine line;
+  size_t points = 0;        // inliers of the final fit
   double length = 0;        // m, corner to corner
   double length_sigma = 0;  // m, from the offsets' standard errors of this wall and its neighbours
 };
@@ -44,6 +47,7 @@ struct RoomResult {
   RoomStatus status = RoomStatus::Ok;
   std::string message;
   std::vector<MeasuredWall> walls;        // in order around the room
+  std::vector<WallLine> candidates;       // every wall-like plane found, for diagnosis when no room closes
   std::vector<Eigen::Vector2d> corners;   // corners[i] joins walls[i-1] and walls[i]
   double area = 0, perimeter = 0;
   std::optional<double> floor_z, ceiling_z;

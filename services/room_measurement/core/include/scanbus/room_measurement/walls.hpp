@@ -18,6 +18,7 @@ struct WallLine {
   double start = 0, end = 0;  // extent of the inliers along the wall, m, along (-n.y, n.x)
   double z_low = 0, z_high = 0;
   double z_coverage = 0;      // share of 10 cm height slices between z_low and z_high holding inliers
+  double length_coverage = 0; // share of 10 cm slots between start and end holding inliers
   std::vector<Eigen::Vector3f> inliers;
 
   Eigen::Vector2d direction() const { return {-normal.y(), normal.x()}; }
@@ -40,7 +41,7 @@ struct Polygon {
 struct PolygonSettings {
   double min_wall_angle_deg = 30;  // neighbours closer to parallel than this cannot meet in a corner
   double min_run_deg = 2;          // a wall seen over less of the turn is clutter
-  double max_gap_deg = 10;         // a wider sector with no wall is an open side: no room
+  double max_gap_deg = 40;         // a wider sector with no wall is an open side, not a doorway: no room
   double extent_tolerance = 0.05;  // m: rays just past a wall's inlier extent still hit it
   double corner_margin = 1.0;      // m around the points where corners may lie (Algorithm 2)
 };

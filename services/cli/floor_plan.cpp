@@ -1,0 +1,126 @@
+#include "floor_plan.hpp"
+
+#include <cairo-svg.h>
+#include <cairo.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+
+#include "scanbus/room_measurement/room_message.hpp"
+
+namespace scanbus::cli {
+
+void write_floor_plan(const std::string& path, const room_measurement::RoomResult& room, const std::string& title,
+                      const std::vector<Eigen::Vector3f>& background) {
+  const bool svg = path.size() > 4 && path.substr(path.size() - 4) == ".svg";
+  const int size = 800, margin = 60;
+  Eigen::Vector2d low(0, 0), high(0, 0);  // the scanner is always in view
+  for (const auto& corner : room.corners) {
+    low = low.cwiseMin(corner);
+    high = high.cwiseMax(corner);
+  }
+  // A measured room shows its walls; one that did not close shows every candidate, to see why.
+  std::vector<room_measurement::WallLine> shown;
+  for (const auto& wall : room.walls) shown.push_back(wall.line);
+  if (room.status != room_measurement::RoomStatus::Ok) shown = room.candidates;
+  for (const auto& wall : shown)
+    for (const auto& p : wall.inliers) {
+      low = low.cwiseMin(p.head<2>().cast<double>());
+      high = high.cwiseMax(p.head<2>().cast<double>());
+    }
+  const double span = std::max({high.x() - low.x(), high.y() - low.y(), 1.0});
+  const double scale = (size - 2 * margin) / span;
+  auto px = [&](double x) { return margin + (x - low.x()) * scale; };
+  auto py = [&](double y) { return size - margin - (y - low.y()) * scale; };
+
+  cairo_surface_t* surface = svg ? cairo_svg_surface_create(path.c_str(), size, size)
+                                 : cairo_image_surface_create(CAIRO_FORMAT_RGB24, size, size);
+  cairo_t* cr = cairo_create(surface);
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+  cairo_set_source_rgb(cr, 0.88, 0.88, 0.88);
+  cairo_set_line_width(cr, 1);
+  for (double x = std::ceil(low.x()); x <= high.x(); x += 1) cairo_move_to(cr, px(x), margin), cairo_line_to(cr, px(x), size - margin);
+  for (double y = std::ceil(low.y()); y <= high.y(); y += 1) cairo_move_to(cr, margin, py(y)), cairo_line_to(cr, size - margin, py(y));
+  cairo_stroke(cr);
+  cairo_set_source_rgb(cr, 0.78, 0.78, 0.78);
+  for (const auto& p : background)
+    if (p.x() >= low.x() && p.x() <= high.x() && p.y() >= low.y() && p.y() <= high.y())
+      cairo_rectangle(cr, px(p.x()) - 0.75, py(p.y()) - 0.75, 1.5, 1.5);
+  cairo_fill(cr);
+  auto set_colour = [&](uint32_t rgb, double alpha) {
+    cairo_set_source_rgba(cr, ((rgb >> 16) & 0xFF) / 255.0, ((rgb >> 8) & 0xFF) / 255.0, (rgb & 0xFF) / 255.0, alpha);
+  };
+  for (size_t w = 0; w < shown.size(); ++w) {  // inliers, faint
+    set_colour(room_measurement::wall_colour(w), 0.35);
+    for (const auto& p : shown[w].inliers) cairo_rectangle(cr, px(p.x()) - 1, py(p.y()) - 1, 2, 2);
+    cairo_fill(cr);
+    if (room.status == room_measurement::RoomStatus::Ok) continue;
+    const Eigen::Vector2d a = shown[w].normal * shown[w].offset + shown[w].direction() * shown[w].start;
+    const Eigen::Vector2d b = shown[w].normal * shown[w].offset + shown[w].direction() * shown[w].end;
+    set_colour(room_measurement::wall_colour(w), 1);
+    cairo_set_line_width(cr, 2);
+    cairo_move_to(cr, px(a.x()), py(a.y()));
+    cairo_line_to(cr, px(b.x()), py(b.y()));
+    cairo_stroke(cr);
+  }
+  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  const size_t count = room.corners.size();
+  for (size_t w = 0; w < room.walls.size() && count == room.walls.size(); ++w) {  // walls corner to corner
+    const Eigen::Vector2d a = room.corners[w], b = room.corners[(w + 1) % count];
+    set_colour(room_measurement::wall_colour(w), 1);
+    cairo_set_line_width(cr, 3);
+    cairo_move_to(cr, px(a.x()), py(a.y()));
+    cairo_line_to(cr, px(b.x()), py(b.y()));
+    cairo_stroke(cr);
+    // Length label just inside the room, off the wall's middle by its own size.
+    char label[64];
+    std::snprintf(label, sizeof(label), "%.3f m", room.walls[w].length);
+    cairo_set_font_size(cr, 15);
+    cairo_text_extents_t extents;
+    cairo_text_extents(cr, label, &extents);
+    const Eigen::Vector2d n = room.walls[w].line.normal;
+    const double clearance = std::abs(n.x()) * extents.width / 2 + std::abs(n.y()) * extents.height / 2 + 8;
+    const Eigen::Vector2d mid = (a + b) / 2 - n * (clearance / scale);
+    cairo_move_to(cr, px(mid.x()) - extents.width / 2, py(mid.y()) + extents.height / 2);
+    cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+    cairo_show_text(cr, label);
+  }
+  cairo_set_source_rgb(cr, 0, 0, 0);
+  for (const auto& corner : room.corners) {
+    cairo_arc(cr, px(corner.x()), py(corner.y()), 4, 0, 2 * M_PI);
+    cairo_fill(cr);
+  }
+  cairo_arc(cr, px(0), py(0), 5, 0, 2 * M_PI);  // the scanner
+  cairo_stroke(cr);
+  cairo_set_font_size(cr, 16);
+  cairo_move_to(cr, margin, 28);
+  cairo_show_text(cr, title.c_str());
+  char summary[160];
+  if (room.status == room_measurement::RoomStatus::Ok) {
+    std::snprintf(summary, sizeof(summary), "%zu walls, floor area %.2f m2, perimeter %.2f m%s", room.walls.size(),
+                  room.area, room.perimeter, room.ceiling_height() ? "" : ", no ceiling found");
+    if (room.ceiling_height())
+      std::snprintf(summary + std::strlen(summary), sizeof(summary) - std::strlen(summary), ", ceiling %.2f m",
+                    *room.ceiling_height());
+  } else {
+    std::snprintf(summary, sizeof(summary), "not measured: %.100s (candidate walls shown)", room.message.c_str());
+  }
+  cairo_set_font_size(cr, 12);
+  cairo_move_to(cr, margin, 48);
+  cairo_show_text(cr, summary);
+  cairo_move_to(cr, margin, size - 20);
+  cairo_show_text(cr, background.empty() ? "floor plan, grid 1 m, circle = scanner, dots = corners, faint = wall inliers"
+                                         : "floor plan, grid 1 m, circle = scanner, dots = corners, grey = scan (top view)");
+  cairo_destroy(cr);
+  cairo_status_t status = CAIRO_STATUS_SUCCESS;
+  if (!svg) status = cairo_surface_write_to_png(surface, path.c_str());
+  cairo_surface_finish(surface);
+  if (status == CAIRO_STATUS_SUCCESS) status = cairo_surface_status(surface);
+  cairo_surface_destroy(surface);
+  if (status != CAIRO_STATUS_SUCCESS) throw std::runtime_error(path + ": cannot write: " + cairo_status_to_string(status));
+}
+
+}  // namespace scanbus::cli

@@ -1,0 +1,66 @@
+#include <iostream>
+
+#include "cloud_files.hpp"
+#include "commands.hpp"
+#include "floor_plan.hpp"
+#include "room_report.hpp"
+
+namespace scanbus::cli {
+
+namespace {
+
+struct RoomOptions {
+  std::string file;
+  std::string unit = "m";
+  std::string config;
+  bool json = false;
+  std::string plan;
+};
+
+// Exit codes: 0 measured, 1 could not measure, 2 bad input.
+int run_measure(const RoomOptions& options) {
+  room_measurement::RoomSettings settings;
+  try {
+    if (!options.config.empty()) {
+      const Config config = Config::load(options.config);
+      settings = room_measurement::room_settings_from_config(config.section("room_measurement"));
+      config.check_all_read();
+    }
+  } catch (const ConfigError& e) {
+    std::cerr << "scanbus room measure: config error: " << e.what() << "\n";
+    return 2;
+  }
+  const double scale = options.unit == "mm" ? 0.001 : options.unit == "cm" ? 0.01 : 1.0;
+  room_measurement::RoomResult room;
+  try {
+    room = room_measurement::measure_room(read_cloud(options.file, scale), settings);
+  } catch (const CloudFileError& e) {
+    if (options.json) {
+      std::cout << nlohmann::json{{"status", "input_error"}, {"message", e.what()}} << "\n";
+    } else {
+      std::cerr << "scanbus room measure: " << e.what() << "\n";
+    }
+    return 2;
+  }
+  if (!options.plan.empty()) write_floor_plan(options.plan, room, options.file);
+  std::cout << (options.json ? room_json(room).dump() + "\n" : room_text(room));
+  return room.status == room_measurement::RoomStatus::Ok ? 0 : 1;
+}
+
+}  // namespace
+
+void add_room_command(CLI::App& app, int& exit_code) {
+  static RoomOptions options;
+  auto* room = app.add_subcommand("room", "Rooms: measure walls, corners and floor area from a scanned cloud");
+  room->require_subcommand(1);
+  auto* measure = room->add_subcommand("measure", "Measure a room from a PCD, PLY or XYZ file (scanner at the origin)");
+  measure->add_option("file", options.file, "Cloud file: .pcd, .ply, .xyz")->required();
+  measure->add_option("--unit", options.unit, "Unit of the file's coordinates")
+      ->check(CLI::IsMember({"m", "cm", "mm"}));
+  measure->add_option("--config", options.config, "YAML with a room_measurement section (defaults: the thesis's)");
+  measure->add_flag("--json", options.json, "Print one JSON object");
+  measure->add_option("--plan", options.plan, "Draw the floor plan to this .png or .svg");
+  on_run(*measure, exit_code, [] { return run_measure(options); });
+}
+
+}  // namespace scanbus::cli

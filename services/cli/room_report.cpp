@@ -1,0 +1,90 @@
+#include "room_report.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace scanbus::cli {
+
+using room_measurement::RoomResult;
+
+nlohmann::json room_json(const RoomResult& room) {
+  nlohmann::json walls = nlohmann::json::array();
+  for (const auto& wall : room.walls)
+    walls.push_back({{"length_m", wall.length},
+                     {"length_sigma_m", wall.length_sigma},
+                     {"normal", {wall.line.normal.x(), wall.line.normal.y(), 0.0}},
+                     {"distance_m", wall.line.offset},
+                     {"rms_m", wall.line.rms},
+                     {"inliers", wall.points}});
+  nlohmann::json corners = nlohmann::json::array();
+  for (const auto& corner : room.corners) corners.push_back({corner.x(), corner.y()});
+  nlohmann::json out = {{"status", room_measurement::status_name(room.status)},
+                        {"message", room.message},
+                        {"walls", walls},
+                        {"corners", corners},
+                        {"area_m2", room.area},
+                        {"perimeter_m", room.perimeter},
+                        {"ceiling_height_m", nullptr},
+                        {"points_in", room.points_in},
+                        {"points_valid", room.points_valid},
+                        {"points_after_filter", room.points_after_filter},
+                        {"points_after_voxel", room.points_after_voxel},
+                        {"voxel_overflow", room.voxel_overflow},
+                        {"error_histogram", {{"bin_m", room.error_bin}, {"counts", room.error_histogram}}},
+                        {"elapsed_ms", room.elapsed_ms}};
+  if (room.ceiling_height()) out["ceiling_height_m"] = *room.ceiling_height();
+  return out;
+}
+
+std::string room_text(const RoomResult& room) {
+  char line[256];
+  std::string text;
+  if (room.status != room_measurement::RoomStatus::Ok) {
+    std::snprintf(line, sizeof(line), "room not measured (%s): %s\n", room_measurement::status_name(room.status),
+                  room.message.c_str());
+    return line;
+  }
+  for (size_t i = 0; i < room.walls.size(); ++i) {
+    const auto& wall = room.walls[i];
+    std::snprintf(line, sizeof(line), "wall %zu: %.3f m (+-%.3f, rms %.3f m, %zu points)\n", i + 1, wall.length,
+                  wall.length_sigma, wall.line.rms, wall.points);
+    text += line;
+  }
+  std::snprintf(line, sizeof(line), "floor area %.2f m2, perimeter %.2f m", room.area, room.perimeter);
+  text += line;
+  if (room.ceiling_height()) {
+    std::snprintf(line, sizeof(line), ", ceiling height %.2f m", *room.ceiling_height());
+    text += line;
+  }
+  if (room.points_in > 0) {
+    std::snprintf(line, sizeof(line), " (%zu points, %.1f ms)", room.points_in, room.elapsed_ms);
+    text += line;
+  }
+  return text + "\n";
+}
+
+room_measurement::RoomResult room_from_message(const scanbus::msg::RoomMeasurement& message) {
+  room_measurement::RoomResult room;
+  room.status = static_cast<room_measurement::RoomStatus>(message.status());
+  room.message = message.message();
+  for (const auto& wall : message.walls()) {
+    room_measurement::MeasuredWall out;
+    out.line.normal = Eigen::Vector2d(wall.plane()[0], wall.plane()[1]);
+    out.line.offset = -wall.plane()[3];
+    out.line.rms = wall.rms_residual();
+    out.length = wall.length();
+    out.length_sigma = wall.length_uncertainty();
+    out.points = wall.inliers();
+    room.walls.push_back(out);
+  }
+  for (const auto& corner : message.corners()) room.corners.emplace_back(corner.x(), corner.y());
+  room.area = message.floor_area();
+  room.perimeter = message.perimeter();
+  if (std::isfinite(message.ceiling_height())) {
+    room.floor_z = 0;
+    room.ceiling_z = message.ceiling_height();
+  }
+  return room;
+}
+
+}  // namespace scanbus::cli

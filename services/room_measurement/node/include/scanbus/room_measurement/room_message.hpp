@@ -1,0 +1,19 @@
+// RoomResult as DDS messages: RoomMeasurement, and the walls' inliers as a PointCloud2
+// with a colour per wall (x y z rgb, the layout RViz2 colours by).
+#pragma once
+
+#include "PointCloud2.h"
+#include "RoomMeasurement.h"
+#include "scanbus/room_measurement/room_measurement.hpp"
+
+namespace scanbus::room_measurement {
+
+scanbus::msg::RoomMeasurement to_message(const RoomResult& result, const std::string& frame_id,
+                                         const builtin_interfaces::msg::Time& stamp);
+sensor_msgs::msg::PointCloud2 walls_cloud(const RoomResult& result, const std::string& frame_id,
+                                          const builtin_interfaces::msg::Time& stamp);
+
+// A distinct colour for wall i (0xRRGGBB).
+uint32_t wall_colour(size_t index);
+
+}  // namespace scanbus::room_measurement
