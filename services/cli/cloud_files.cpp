@@ -1,12 +1,14 @@
 #include "cloud_files.hpp"
 
 #include <cairo.h>
+#include <pcl/console/print.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
 #include <pcl/point_types.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -28,13 +30,39 @@ std::vector<Eigen::Vector3f> read_xyz(const std::string& path) {
   std::string line;
   for (size_t number = 1; std::getline(in, line); ++number) {
     if (line.empty() || line[0] == '#') continue;
-    std::istringstream words(line);
-    float x, y, z;
-    if (!(words >> x >> y >> z))
-      throw CloudFileError(path + ":" + std::to_string(number) + ": expected 'x y z', got '" + line.substr(0, 60) + "'");
-    points.emplace_back(x, y, z);
+    // strtof, unlike >>, reads "nan" and "inf": such points are counted, then dropped.
+    const char* at = line.c_str();
+    float xyz[3];
+    for (float& value : xyz) {
+      char* end = nullptr;
+      value = std::strtof(at, &end);
+      if (end == at)
+        throw CloudFileError(path + ":" + std::to_string(number) + ": expected 'x y z', got '" + line.substr(0, 60) + "'");
+      at = end;
+    }
+    points.emplace_back(xyz[0], xyz[1], xyz[2]);
   }
   return points;
+}
+
+// PCL's PCD reader crashes on some damaged headers: check the header's shape first (text
+// lines of known keys up to DATA), and let PCL read only what looks like a PCD file.
+void check_pcd_header(const std::string& path) {
+  static const char* kKeys[] = {"VERSION", "FIELDS", "SIZE", "TYPE", "COUNT", "WIDTH", "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  for (int number = 1; number <= 32 && std::getline(in, line); ++number) {
+    if (line.size() > 4096 || std::any_of(line.begin(), line.end(), [](char c) {
+          return static_cast<unsigned char>(c) < 0x09 || static_cast<unsigned char>(c) > 0x7e;
+        }))
+      throw CloudFileError(path + ": not a readable pcd file (binary bytes in the header, line " + std::to_string(number) + ")");
+    if (line.empty() || line[0] == '#') continue;
+    const std::string key = line.substr(0, line.find(' '));
+    if (std::none_of(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return key == k; }))
+      throw CloudFileError(path + ": not a readable pcd file (unknown header key '" + key.substr(0, 20) + "')");
+    if (key == "DATA") return;
+  }
+  throw CloudFileError(path + ": not a readable pcd file (no DATA line in the header)");
 }
 
 // Blue (low) to red (high), like RViz's rainbow.
@@ -49,11 +77,13 @@ void height_colour(double t, double& r, double& g, double& b) {
 
 std::vector<Eigen::Vector3f> read_cloud(const std::string& path, double scale) {
   if (!std::ifstream(path)) throw CloudFileError(path + ": cannot open");
+  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);  // our one line says what is wrong
   const std::string extension = extension_of(path);
   std::vector<Eigen::Vector3f> points;
   if (extension == "xyz" || extension == "txt") {
     points = read_xyz(path);
   } else if (extension == "pcd" || extension == "ply") {
+    if (extension == "pcd") check_pcd_header(path);
     pcl::PointCloud<pcl::PointXYZ> cloud;
     int status = -1;
     try {

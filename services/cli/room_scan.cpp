@@ -60,13 +60,12 @@ RoomScanResult run_room_scan(const RoomScanOptions& options) {
         std::lock_guard<std::mutex> lock(mutex);
         const auto points = from_point_cloud2(cloud);
         result.points.insert(result.points.end(), points.begin(), points.end());
-        if (++scans == options.scans && !options.measure) StopSignal::request();
+        ++scans;
       });
   Reader<scanbus::msg::RoomMeasurementPubSubType> room_reader(
       participant, "rt/room/measurement", [&](const auto& room, const auto&) {
         std::lock_guard<std::mutex> lock(mutex);
         result.room = room;
-        StopSignal::request();
       });
 
   std::vector<std::string> sim = {"sim", "scanner", "--link", link, "--speed", std::to_string(options.speed)};
@@ -78,12 +77,20 @@ RoomScanResult run_room_scan(const RoomScanOptions& options) {
     room_measurement.emplace(own_executable(), std::vector<std::string>{"run", "room_measurement", "--config", room_config},
                              options.work_dir + "/room_measurement.log");
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.timeout);
+  std::optional<std::chrono::steady_clock::time_point> complete_at;
   while (!StopSignal::wait_for(std::chrono::milliseconds(100))) {
     check_alive(simulator);
     check_alive(scanner_io);
     if (room_measurement) check_alive(*room_measurement);
-    if (std::chrono::steady_clock::now() > deadline)
+    const auto now = std::chrono::steady_clock::now();
+    if (now > deadline)
       throw std::runtime_error("no complete scan within " + std::to_string(static_cast<int>(options.timeout)) + " s");
+    std::lock_guard<std::mutex> lock(mutex);
+    if (scans < options.scans || (options.measure && !result.room)) continue;
+    // Revolution clouds and the scan cloud come on separate topics, in no fixed order:
+    // give the last revolution a moment to be counted.
+    if (!complete_at) complete_at = now;
+    if (result.revolutions >= total_revolutions || now - *complete_at > std::chrono::seconds(1)) break;
   }
   if (options.progress) std::printf("\n");
   std::lock_guard<std::mutex> lock(mutex);

@@ -13,12 +13,19 @@ cat "$work/demo.json"
 python3 - "$work/demo.json" <<'PY'
 import json, sys
 result = json.load(open(sys.argv[1]))
-assert result["revolutions"] == 27, result
-# 20 RPM: about 146 measurements in each of 27 revolutions, less the rays that leave
+assert result["revolutions"] == 3 * 27, result
+# 20 RPM: about 146 measurements in each of 81 revolutions, less the rays that leave
 # through the doorway and the simulated dropouts.
-assert 3500 <= result["points"] <= 27 * 151, result
-height = result["extent_max"][2] - result["extent_min"][2]
-assert abs(height - 2.5) < 0.2, f"floor to ceiling {height:.2f} m, built-in room is 2.5 m"
+assert 10000 <= result["points"] <= 81 * 151, result
+room = result["room"]
+assert room["status"] == "ok", room
+lengths = sorted(w["length_m"] for w in room["walls"])
+assert len(lengths) == 4, lengths
+for got, want in zip(lengths, [3.48, 3.48, 5.47, 5.47]):
+    assert abs(got - want) < 0.02, (got, want)
+assert abs(room["area_m2"] - 5.47 * 3.48) < 0.01 * 5.47 * 3.48, room["area_m2"]
+assert abs(room["ceiling_height_m"] - 2.5) < 0.05, room["ceiling_height_m"]
+print("demo room:", [round(l, 3) for l in lengths], "area", round(room["area_m2"], 2))
 for path in result["files"]:
     with open(path, "rb") as f:
         head = f.read(8)

@@ -23,8 +23,9 @@ struct RoomSettings {
   double min_wall_height = 1.2;    // m of height a plane's inliers must span to be a wall
   double min_wall_coverage = 0.5;  // and the share of that height they must fill (floor and ceiling
                                    // points left in one vertical slice span it but fill only its ends)
-  double min_wall_fill = 0.5;      // and of their length: RANSAC also fits planes through scattered
-                                   // clutter that happens to line up
+  double min_wall_fill = 0.3;      // and of their length: RANSAC also fits planes through scattered
+                                   // clutter that happens to line up (walls hidden in part by tall
+                                   // furniture keep less than half, so not more)
   PolygonSettings polygon;
   size_t max_horizontal_samples = 30000;  // floor and ceiling are found on a subsample
 };

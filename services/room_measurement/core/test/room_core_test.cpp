@@ -1,0 +1,138 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "scanbus/room_measurement/room_measurement.hpp"
+
+using namespace scanbus::room_measurement;
+
+namespace {
+
+// Points on the vertical plane through a and b, floor to ceiling, with range-like noise.
+void add_wall(std::vector<Eigen::Vector3f>& points, Eigen::Vector2f a, Eigen::Vector2f b, std::mt19937& random,
+              float noise = 0.01f, float z_low = -1.2f, float z_high = 1.3f) {
+  std::normal_distribution<float> jitter(0, noise);
+  const Eigen::Vector2f along = b - a;
+  const Eigen::Vector2f normal = Eigen::Vector2f(-along.y(), along.x()).normalized();
+  const int columns = static_cast<int>(along.norm() / 0.03f);
+  for (int i = 0; i <= columns; ++i)
+    for (float z = z_low; z <= z_high; z += 0.05f) {
+      const Eigen::Vector2f xy = a + along * (static_cast<float>(i) / columns) + normal * jitter(random);
+      points.emplace_back(xy.x(), xy.y(), z);
+    }
+}
+
+std::vector<Eigen::Vector3f> box_room(float x0, float y0, float x1, float y1, std::mt19937& random) {
+  std::vector<Eigen::Vector3f> points;
+  add_wall(points, {x0, y0}, {x1, y0}, random);
+  add_wall(points, {x1, y0}, {x1, y1}, random);
+  add_wall(points, {x1, y1}, {x0, y1}, random);
+  add_wall(points, {x0, y1}, {x0, y0}, random);
+  return points;
+}
+
+}  // namespace
+
+TEST(HistogramFilter, KeepsDenseTallBinsOnly) {
+  std::vector<Eigen::Vector3f> points;
+  for (float z = -1.2f; z <= 1.3f; z += 0.05f) points.emplace_back(3.0f, 0.0f, z);  // a wall column: kept
+  for (float x = -3; x <= 3; x += 0.5f) points.emplace_back(x, 2.0f, -1.2f);       // floor: flat, dropped
+  for (float z = -1.0f; z <= 1.0f; z += 0.05f) points.emplace_back(0.5f, 0.0f, z);  // too near: dropped
+  points.emplace_back(-3.0f, -3.0f, 1.0f);                                          // lone point: dropped
+  const auto kept = histogram_filter(points, HistogramFilterSettings{});
+  ASSERT_FALSE(kept.empty());
+  for (const auto& p : kept) EXPECT_FLOAT_EQ(p.x(), 3.0f);
+  EXPECT_EQ(kept.size(), 51u);
+}
+
+TEST(RoomMeasurement, RectangleWithCornersAndArea) {
+  std::mt19937 random(1);
+  const auto result = measure_room(box_room(-2, -1.5f, 3, 2, random), RoomSettings{});
+  ASSERT_EQ(result.status, RoomStatus::Ok) << result.message;
+  ASSERT_EQ(result.walls.size(), 4u);
+  EXPECT_NEAR(result.area, 5.0 * 3.5, 0.02);
+  EXPECT_NEAR(result.perimeter, 17.0, 0.01);
+  for (const auto& wall : result.walls) {
+    EXPECT_TRUE(std::abs(wall.length - 5.0) < 0.01 || std::abs(wall.length - 3.5) < 0.01) << wall.length;
+    EXPECT_GT(wall.length_sigma, 0.0);
+    EXPECT_NEAR(wall.line.rms, 0.01, 0.003);
+  }
+  // corners[i] joins walls[i-1] and walls[i]: it lies on both lines.
+  for (size_t i = 0; i < result.corners.size(); ++i) {
+    for (const auto* wall : {&result.walls[i], &result.walls[(i + 3) % 4]})
+      EXPECT_NEAR(wall->line.normal.dot(result.corners[i]), wall->line.offset, 1e-9);
+  }
+  EXPECT_FALSE(result.error_histogram.empty());
+}
+
+TEST(RoomMeasurement, TallCupboardInFrontOfAWallIsNotAWall) {
+  std::mt19937 random(2);
+  auto points = box_room(-2, -1.5f, 3, 2, random);
+  std::vector<Eigen::Vector3f> behind;  // the wall at x = 3 is hidden below 0.9 m by the cupboard
+  points.erase(std::remove_if(points.begin(), points.end(), [](const auto& p) {
+                 return std::abs(p.x() - 3) < 0.05f && p.y() > -1.0f && p.y() < 1.0f && p.z() < 0.9f;
+               }),
+               points.end());
+  add_wall(points, {2.4f, -1.0f}, {2.4f, 1.0f}, random, 0.01f, -1.2f, 0.9f);  // its front, 2.1 m tall
+  const auto result = measure_room(points, RoomSettings{});
+  ASSERT_EQ(result.status, RoomStatus::Ok) << result.message;
+  EXPECT_EQ(result.walls.size(), 4u);
+  EXPECT_NEAR(result.area, 17.5, 0.05);
+}
+
+TEST(RoomMeasurement, OpenSideIsNotARoom) {
+  std::mt19937 random(3);
+  std::vector<Eigen::Vector3f> points;
+  add_wall(points, {-2, -1.5f}, {3, -1.5f}, random);
+  add_wall(points, {3, -1.5f}, {3, 2}, random);
+  add_wall(points, {-2, 2}, {-2, -1.5f}, random);  // no wall at y = 2
+  const auto result = measure_room(points, RoomSettings{});
+  EXPECT_EQ(result.status, RoomStatus::WallsDoNotClose);
+  EXPECT_NE(result.message.find("do not close"), std::string::npos) << result.message;
+  EXPECT_TRUE(result.walls.empty());
+  EXPECT_EQ(result.candidates.size(), 3u);
+}
+
+TEST(RoomMeasurement, TooFewWalls) {
+  std::mt19937 random(4);
+  std::vector<Eigen::Vector3f> points;
+  add_wall(points, {-2, -1.5f}, {3, -1.5f}, random);
+  add_wall(points, {3, -1.5f}, {3, 2}, random);
+  const auto result = measure_room(points, RoomSettings{});
+  EXPECT_EQ(result.status, RoomStatus::TooFewWalls);
+}
+
+TEST(RoomMeasurement, EmptyAndNonFiniteInput) {
+  EXPECT_EQ(measure_room({}, RoomSettings{}).status, RoomStatus::TooFewPoints);
+  std::mt19937 random(5);
+  auto points = box_room(-2, -1.5f, 3, 2, random);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (int i = 0; i < 100; ++i) points.emplace_back(nan, 1.0f, std::numeric_limits<float>::infinity());
+  const auto result = measure_room(points, RoomSettings{});
+  EXPECT_EQ(result.status, RoomStatus::Ok) << result.message;
+  EXPECT_EQ(result.points_in - result.points_valid, 100u);
+  const auto only_nan = measure_room(std::vector<Eigen::Vector3f>(1000, Eigen::Vector3f(nan, nan, nan)), RoomSettings{});
+  EXPECT_EQ(only_nan.status, RoomStatus::TooFewPoints);
+}
+
+TEST(VoxelGrid, OverflowIsDetectedNotSilent) {
+  std::vector<Eigen::Vector3f> points = {{0, 0, 0}, {1e5f, 1e5f, 1e5f}, {0.01f, 0, 0}};
+  const VoxelResult far = voxel_grid(points, 0.05);
+  EXPECT_TRUE(far.overflow);
+  EXPECT_EQ(far.points.size(), 3u);
+  const VoxelResult near = voxel_grid({{0, 0, 0}, {0.01f, 0, 0}, {1, 1, 1}}, 0.05);
+  EXPECT_FALSE(near.overflow);
+  EXPECT_EQ(near.points.size(), 2u);  // the first two share a voxel
+}
+
+TEST(RoomSettings, FromConfigWithValidation) {
+  const auto config = scanbus::Config::parse("room_measurement:\n  voxel_leaf: 0\n  histogram: {bins: 50}\n", "r.yaml");
+  const RoomSettings settings = room_settings_from_config(config.section("room_measurement"));
+  EXPECT_EQ(settings.voxel_leaf, 0.0);
+  EXPECT_EQ(settings.histogram.bins, 50);
+  EXPECT_NO_THROW(config.check_all_read());
+  const auto bad = scanbus::Config::parse("room_measurement:\n  ransac: {distance: -1}\n", "r.yaml");
+  EXPECT_THROW(room_settings_from_config(bad.section("room_measurement")), scanbus::ConfigError);
+}

@@ -1,0 +1,98 @@
+#!/usr/bin/env bash
+# `scanbus room measure` from files: units, JSON, floor plans, bad input (exit 2 with a
+# clear message, never a crash), and the real room scan in ../shared when it is there.
+set -uo pipefail
+scanbus=$1
+shared=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0
+fail() { echo "FAIL $*"; failures=$((failures + 1)); }
+
+# A synthetic 4.2 m x 3.1 m room in centimetres (walls only, 1 cm noise), scanner inside.
+python3 - "$work/room_cm.xyz" <<'PY'
+import random, sys
+random.seed(7)
+x0, y0, x1, y1 = -180.0, -120.0, 240.0, 190.0
+with open(sys.argv[1], "w") as out:
+    out.write("# x y z in cm\n")
+    for (ax, ay, bx, by) in [(x0, y0, x1, y0), (x1, y0, x1, y1), (x1, y1, x0, y1), (x0, y1, x0, y0)]:
+        steps = int(max(abs(bx - ax), abs(by - ay)) / 3)
+        for i in range(steps + 1):
+            t = i / steps
+            for z in range(-120, 131, 5):
+                nx, ny = (by - ay), -(bx - ax)
+                norm = (nx * nx + ny * ny) ** 0.5
+                e = random.gauss(0, 1.0)
+                out.write(f"{ax + t * (bx - ax) + e * nx / norm:.2f} {ay + t * (by - ay) + e * ny / norm:.2f} {z}\n")
+PY
+"$scanbus" room measure "$work/room_cm.xyz" --unit cm --json --plan "$work/plan.svg" > "$work/out.json"
+status=$?
+python3 - "$work/out.json" <<'PY' || fail "synthetic room in cm"
+import json, sys
+room = json.load(open(sys.argv[1]))
+assert room["status"] == "ok", room
+lengths = sorted(w["length_m"] for w in room["walls"])
+assert len(lengths) == 4, lengths
+for got, want in zip(lengths, [3.1, 3.1, 4.2, 4.2]):
+    assert abs(got - want) < 0.01, (got, want)
+assert abs(room["area_m2"] - 4.2 * 3.1) < 0.05, room["area_m2"]
+for key in ("corners", "ceiling_height_m", "points_in", "points_after_filter", "elapsed_ms"):
+    assert key in room, key
+print("ok   synthetic room in cm:", [round(l, 3) for l in lengths], "area", round(room["area_m2"], 3))
+PY
+[ "$status" -eq 0 ] || fail "exit $status for a measurable room"
+grep -q "<svg" "$work/plan.svg" || fail "no SVG floor plan"
+
+expect_exit() {  # expect_exit CODE PATTERN -- COMMAND...
+  local code=$1 pattern=$2; shift 3
+  local status=0
+  timeout 60 "$@" > "$work/stdout" 2> "$work/stderr" || status=$?
+  if [ "$status" -ne "$code" ] || ! grep -q -- "$pattern" "$work/stdout" "$work/stderr" || [ "$(wc -l < "$work/stderr")" -gt 1 ]; then
+    fail "'$*': exit $status, wanted $code and '$pattern'"; cat "$work/stdout" "$work/stderr"
+  else
+    echo "ok   exit $code: $(cat "$work/stderr" "$work/stdout" | head -c 160)"
+  fi
+}
+
+: > "$work/empty.xyz"
+expect_exit 2 "no points" -- "$scanbus" room measure "$work/empty.xyz"
+head -c 3000 /dev/urandom > "$work/corrupt.pcd"
+expect_exit 2 "not a readable pcd file" -- "$scanbus" room measure "$work/corrupt.pcd"
+printf '# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1000\nHEIGHT 1\nPOINTS 1000\nDATA binary\n\x01\x02' > "$work/truncated.pcd"
+expect_exit 2 "not a readable pcd file" -- "$scanbus" room measure "$work/truncated.pcd"
+expect_exit 2 "input_error" -- "$scanbus" room measure "$work/corrupt.pcd" --json
+head -c 3000 /dev/urandom > "$work/corrupt.ply"
+expect_exit 2 "not a readable ply file" -- "$scanbus" room measure "$work/corrupt.ply"
+printf 'ply\nformat ascii 1.0\nelement vertex 100\nproperty float x\nproperty float y\nproperty float z\nend_header\n1 2 3\n' > "$work/short.ply"
+expect_exit 2 "not a readable ply file" -- "$scanbus" room measure "$work/short.ply"
+printf '1 2 3\n4 five 6\n' > "$work/bad.xyz"
+expect_exit 2 "bad.xyz:2: expected 'x y z'" -- "$scanbus" room measure "$work/bad.xyz"
+printf 'nan nan nan\n' > "$work/nan.xyz"
+for _ in $(seq 200); do printf 'nan 1 2\n' >> "$work/nan.xyz"; done
+expect_exit 1 "too_few_points" -- "$scanbus" room measure "$work/nan.xyz" --json
+touch "$work/x.las"
+expect_exit 2 "unknown format '.las'" -- "$scanbus" room measure "$work/x.las"
+expect_exit 2 "cannot open" -- "$scanbus" room measure "$work/missing.pcd"
+printf 'room_measurement:\n  voxel_leef: 0.1\n' > "$work/bad.yaml"
+expect_exit 2 "unknown key 'room_measurement.voxel_leef'" -- "$scanbus" room measure "$work/room_cm.xyz" --config "$work/bad.yaml"
+
+# The real scan: an open room. A result or a clear status, the same twice, never a crash.
+real="$shared/data/rooms/room_scan1.pcd"
+if [ -f "$real" ]; then
+  first=$(timeout 60 "$scanbus" room measure "$real" --json); first_status=$?
+  second=$(timeout 60 "$scanbus" room measure "$real" --json); second_status=$?
+  python3 - "$first" "$second" "$first_status" <<'PY' || fail "real room scan"
+import json, sys
+a, b, code = json.loads(sys.argv[1]), json.loads(sys.argv[2]), int(sys.argv[3])
+assert a["status"] in ("ok", "walls_do_not_close", "too_few_walls"), a["status"]
+assert (code == 0) == (a["status"] == "ok"), (code, a["status"])
+assert a["status"] == b["status"] and abs(a["area_m2"] - b["area_m2"]) < 1e-9, (a["status"], b["status"])
+print(f"ok   real room_scan1.pcd: {a['status']} ({a['message']}), {a['points_in']} points, {a['elapsed_ms']:.0f} ms")
+PY
+  [ "$first_status" -le 1 ] || fail "real scan exit $first_status"
+else
+  echo "skip real room scan: $real not found (../shared absent)"
+fi
+
+[ "$failures" -eq 0 ]
