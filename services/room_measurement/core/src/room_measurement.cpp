@@ -37,25 +37,35 @@ void measure_lengths(std::vector<MeasuredWall>& walls) {
   }
 }
 
-// The floor is the lowest well-supported horizontal plane below the scanner, the ceiling
-// the highest above it: tables, beds and sofa tops are planes too, and from a scanner that
-// looks down at most 30 degrees they can hold more points than the floor.
+// The floor is a horizontal plane among the lowest points, the ceiling among the highest:
+// one RANSAC plane in a band at each end of the height range (tables, beds and sofa tops
+// stand higher than the floor's band, and hold more points than the floor can from a
+// scanner that looks at most 30 degrees down). Heights are the inliers' medians: a plane
+// tilted within the eps angle is off at the origin.
 void find_floor_and_ceiling(const std::vector<Eigen::Vector3f>& points, const RoomSettings& settings, RoomResult& result) {
-  std::vector<Eigen::Vector3f> sample;
+  std::vector<float> heights;
   const size_t stride = std::max<size_t>(1, points.size() / settings.max_horizontal_samples);
-  for (size_t i = 0; i < points.size(); i += stride) sample.push_back(points[i]);
+  for (size_t i = 0; i < points.size(); i += stride) heights.push_back(points[i].z());
+  std::sort(heights.begin(), heights.end());
+  const float low = heights[heights.size() / 100], high = heights[heights.size() * 99 / 100];
   RansacSettings ransac = settings.ransac;
-  ransac.max_planes = 8;
-  ransac.min_inliers = std::max(settings.ransac.min_inliers, sample.size() / 50);
-  for (const Plane& plane : extract_planes(sample, false, ransac)) {
-    // The inliers' median height: a plane tilted within the eps angle is off at the origin.
-    std::vector<float> heights;
-    for (const auto& p : plane.inliers) heights.push_back(p.z());
-    std::nth_element(heights.begin(), heights.begin() + static_cast<long>(heights.size() / 2), heights.end());
-    const double z = heights[heights.size() / 2];
-    if (z < 0 && (!result.floor_z || z < *result.floor_z)) result.floor_z = z;
-    if (z > 0 && (!result.ceiling_z || z > *result.ceiling_z)) result.ceiling_z = z;
-  }
+  ransac.max_planes = 1;
+  auto plane_height = [&](float from, float to) -> std::optional<double> {
+    std::vector<Eigen::Vector3f> band;
+    for (size_t i = 0; i < points.size(); i += stride)
+      if (points[i].z() >= from && points[i].z() <= to) band.push_back(points[i]);
+    const auto planes = extract_planes(band, false, ransac);
+    if (planes.empty()) return std::nullopt;
+    std::vector<float> z;
+    for (const auto& p : planes.front().inliers) z.push_back(p.z());
+    std::nth_element(z.begin(), z.begin() + static_cast<long>(z.size() / 2), z.end());
+    return z[z.size() / 2];
+  };
+  constexpr float kBand = 0.3f;  // m
+  if (low < 0) result.floor_z = plane_height(low - kBand, low + kBand);
+  if (high > 0) result.ceiling_z = plane_height(high - kBand, high + kBand);
+  if (result.floor_z && *result.floor_z >= 0) result.floor_z.reset();
+  if (result.ceiling_z && *result.ceiling_z <= 0) result.ceiling_z.reset();
 }
 
 // The final fit of a room wall: every filtered point within `band` of its line, away from
@@ -112,7 +122,11 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
   }
   find_floor_and_ceiling(valid, settings, result);
 
-  const std::vector<Eigen::Vector3f> filtered = histogram_filter(valid, settings.histogram);
+  // The thesis's density threshold is for its ~18,560-point scans: denser clouds scale it.
+  HistogramFilterSettings histogram = settings.histogram;
+  if (settings.density_reference > 0 && valid.size() > settings.density_reference)
+    histogram.min_points = static_cast<int>(histogram.min_points * valid.size() / settings.density_reference);
+  const std::vector<Eigen::Vector3f> filtered = histogram_filter(valid, histogram);
   result.points_after_filter = filtered.size();
   std::vector<Eigen::Vector3f> walls_only = filtered;
   if (settings.voxel_leaf > 0) {
@@ -123,7 +137,9 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
   result.points_after_voxel = walls_only.size();
 
   std::vector<WallLine> candidates;
-  for (Plane& plane : extract_planes(walls_only, true, settings.ransac)) {
+  RansacSettings vertical = settings.ransac;  // planes holding less of the cloud are clutter
+  vertical.min_inliers = std::max(vertical.min_inliers, static_cast<size_t>(settings.min_plane_share * walls_only.size()));
+  for (Plane& plane : extract_planes(walls_only, true, vertical)) {
     WallLine wall = fit_wall(std::move(plane.inliers));
     if (wall.z_high - wall.z_low >= settings.min_wall_height && wall.z_coverage >= settings.min_wall_coverage &&
         wall.length_coverage >= settings.min_wall_fill)
@@ -192,12 +208,14 @@ RoomSettings room_settings_from_config(const Config& section) {
   s.histogram.min_points = static_cast<int>(histogram.integer("min_points", s.histogram.min_points, 1, 1000000));
   s.histogram.min_z_spread = histogram.number("min_z_spread", s.histogram.min_z_spread, 0, 100);
   s.voxel_leaf = section.number("voxel_leaf", s.voxel_leaf, 0, 10);
+  s.density_reference = static_cast<size_t>(section.integer("density_reference", 18560, 0, 1000000000));
   const Config ransac = section.section("ransac");
   s.ransac.distance = ransac.number("distance", s.ransac.distance, 0.001, 1);
   s.ransac.eps_angle_deg = ransac.number("eps_angle", s.ransac.eps_angle_deg, 0.01, 45);
   s.ransac.iterations = static_cast<int>(ransac.integer("iterations", s.ransac.iterations, 1, 1000000));
   s.ransac.min_inliers = static_cast<size_t>(ransac.integer("min_inliers", 50, 3, 10000000));
   s.ransac.max_planes = static_cast<int>(ransac.integer("max_planes", s.ransac.max_planes, 1, 1000));
+  s.min_plane_share = section.number("min_plane_share", s.min_plane_share, 0, 1);
   s.min_wall_height = section.number("min_wall_height", s.min_wall_height, 0, 100);
   s.min_wall_coverage = section.number("min_wall_coverage", s.min_wall_coverage, 0, 1);
   s.min_wall_fill = section.number("min_wall_fill", s.min_wall_fill, 0, 1);

@@ -18,8 +18,11 @@ namespace scanbus::room_measurement {
 
 struct RoomSettings {
   HistogramFilterSettings histogram;
+  size_t density_reference = 18560;  // points for which histogram.min_points holds (the thesis's
+                                     // scan); larger clouds scale it up; 0 keeps it absolute
   double voxel_leaf = 0.05;        // m; 0 skips the VoxelGrid
   RansacSettings ransac;
+  double min_plane_share = 0.02;   // vertical planes with fewer of the filtered points are clutter
   double min_wall_height = 1.2;    // m of height a plane's inliers must span to be a wall
   double min_wall_coverage = 0.5;  // and the share of that height they must fill (floor and ceiling
                                    // points left in one vertical slice span it but fill only its ends)
@@ -27,7 +30,7 @@ struct RoomSettings {
                                    // clutter that happens to line up (walls hidden in part by tall
                                    // furniture keep less than half, so not more)
   PolygonSettings polygon;
-  size_t max_horizontal_samples = 30000;  // floor and ceiling are found on a subsample
+  size_t max_horizontal_samples = 50000;  // floor and ceiling are found on a subsample
 };
 
 // The `room_measurement` config section (keys documented in config/services/room_measurement.yaml).
