@@ -44,6 +44,8 @@ void add_scan_command(CLI::App& app, int& exit_code) {
       ->check(CLI::ExistingFile);
   command->add_option("--out", options.out, "PCD file for the whole scan (metres, frame scanner)");
   command->add_option("--speed", options.scan.speed, "Times real time")->check(CLI::Range(0.01, 1000.0));
+  command->add_option("--scans", options.scan.scans, "Whole scans in a row (each interleaves its pitch, eq. 4.9)")
+      ->check(CLI::Range(1, 100));
   command->add_option("--resolution", options.scan.resolution, "Table 4.2 setting: 0 = 12, 1 = 20, 2 = 28 RPM")
       ->check(CLI::Range(0, 2));
   command->add_option("--timeout", options.scan.timeout, "Give up after this many seconds")->check(CLI::PositiveNumber);
