@@ -37,7 +37,7 @@ RoomScanResult run_room_scan(const RoomScanOptions& options) {
   const std::string config = options.work_dir + "/scanner_io.yaml";
   std::ofstream(config) << "service:\n  health_period: 0.5\nscanner_io:\n  port: " << link
                         << "\n  resolution: " << options.resolution << "\n  scans: " << options.scans
-                        << "\n  reconnect_min: 0.05\n";
+                        << "\n  reconnect_min: 0.05\n  reconnect_max: 0.5\n";
   const std::string room_config = options.work_dir + "/room_measurement.yaml";
   std::ofstream(room_config) << "service:\n  health_period: 0.5\nroom_measurement:\n  scans: " << options.scans << "\n";
   // The services read their DDS settings from the environment: same domain and profile as ours.
@@ -68,14 +68,24 @@ RoomScanResult run_room_scan(const RoomScanOptions& options) {
         result.room = room;
       });
 
-  std::vector<std::string> sim = {"sim", "scanner", "--link", link, "--speed", std::to_string(options.speed)};
-  if (!options.room_file.empty()) sim.insert(sim.end(), {"--room", options.room_file});
-  ChildProcess simulator(own_executable(), sim, options.work_dir + "/scanner_sim.log");
   ChildProcess scanner_io(own_executable(), {"run", "scanner_io", "--config", config}, options.work_dir + "/scanner_io.log");
   std::optional<ChildProcess> room_measurement;
   if (options.measure)
     room_measurement.emplace(own_executable(), std::vector<std::string>{"run", "room_measurement", "--config", room_config},
                              options.work_dir + "/room_measurement.log");
+  // Power the device on only once we hear the services: a revolution published before
+  // discovery completes would never reach our (volatile) reader.
+  const auto discovery_deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (revolution_reader.matched_writers() == 0 || scan_reader.matched_writers() == 0 ||
+         (options.measure && room_reader.matched_writers() == 0)) {
+    check_alive(scanner_io);
+    if (room_measurement) check_alive(*room_measurement);
+    if (std::chrono::steady_clock::now() > discovery_deadline) throw std::runtime_error("the services did not appear on DDS within 20 s");
+    if (StopSignal::wait_for(std::chrono::milliseconds(20))) throw std::runtime_error("interrupted");
+  }
+  std::vector<std::string> sim = {"sim", "scanner", "--link", link, "--speed", std::to_string(options.speed)};
+  if (!options.room_file.empty()) sim.insert(sim.end(), {"--room", options.room_file});
+  ChildProcess simulator(own_executable(), sim, options.work_dir + "/scanner_sim.log");
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.timeout);
   std::optional<std::chrono::steady_clock::time_point> complete_at;
   while (!StopSignal::wait_for(std::chrono::milliseconds(100))) {

@@ -3,6 +3,7 @@
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
 #include <cstdlib>
+#include <set>
 
 namespace scanbus {
 
@@ -31,14 +32,23 @@ Participant::Participant(const DdsSettings& settings, const std::string& name) {
   auto* factory = dds::DomainParticipantFactory::get_instance();
   dds::DomainParticipantQos qos;
   if (!settings.profile_file.empty()) {
-    if (factory->load_XML_profiles_file(settings.profile_file) != ReturnCode_t::RETCODE_OK)
-      throw DdsError(settings.profile_file + ": cannot load Fast DDS XML profiles");
+    static std::mutex loading;
+    static std::set<std::string> loaded_files;  // again would make Fast DDS log errors
+    std::lock_guard<std::mutex> lock(loading);
+    if (!loaded_files.count(settings.profile_file)) {
+      if (factory->load_XML_profiles_file(settings.profile_file) != ReturnCode_t::RETCODE_OK)
+        throw DdsError(settings.profile_file + ": cannot load Fast DDS XML profiles");
+      loaded_files.insert(settings.profile_file);
+    }
     if (factory->get_participant_qos_from_profile(settings.profile, qos) != ReturnCode_t::RETCODE_OK)
       throw DdsError(settings.profile_file + ": no participant profile '" + settings.profile + "'");
   } else {
-    const std::string xml = embedded_localhost_profile();
-    if (factory->load_XML_profiles_string(xml.c_str(), xml.size()) != ReturnCode_t::RETCODE_OK ||
-        factory->get_participant_qos_from_profile(settings.profile, qos) != ReturnCode_t::RETCODE_OK)
+    // Once per process: loading the same profiles again makes Fast DDS log errors.
+    static const bool loaded = [factory] {
+      const std::string xml = embedded_localhost_profile();
+      return factory->load_XML_profiles_string(xml.c_str(), xml.size()) == ReturnCode_t::RETCODE_OK;
+    }();
+    if (!loaded || factory->get_participant_qos_from_profile(settings.profile, qos) != ReturnCode_t::RETCODE_OK)
       throw DdsError("built-in DDS profile has no participant profile '" + settings.profile + "'");
   }
   qos.name(name);
