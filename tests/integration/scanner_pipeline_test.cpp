@@ -55,6 +55,9 @@ class ScannerObserver {
     }
   }
 
+  // Called under the lock, from wait_until.
+  bool discovered() const { return batches_.matched_writers() > 0 && statuses_.matched_writers() > 0; }
+
   std::mutex mutex;
   std::vector<scanbus::msg::SphericalScan> batches;
   std::vector<std::vector<CloudPoint>> scans;
@@ -98,6 +101,11 @@ class ScannerPipeline : public ::testing::Test {
                                           work_ + "/scanner_io.log");
   }
 
+  // Until then, what scanner_io publishes would not reach our volatile readers.
+  void wait_for_discovery() {
+    ASSERT_TRUE(observer_->wait_until([&] { return observer_->discovered(); }, 20s)) << "scanner_io not discovered";
+  }
+
   std::unique_ptr<ChildProcess> start_simulator(const std::vector<std::string>& extra) {
     std::vector<std::string> arguments = {"sim", "scanner", "--link", link_};
     arguments.insert(arguments.end(), extra.begin(), extra.end());
@@ -135,8 +143,9 @@ void write_all(sim::PtyDevice& device, std::string bytes) {
 
 TEST_F(ScannerPipeline, FullScanOfTheDefaultRoomArrivesWhole) {
   use_domain(71);
-  auto simulator = start_simulator({"--speed", "20", "--dropout", "0", "--seed", "3"});
   auto scanner_io = start_scanner_io("  resolution: 1\n");
+  wait_for_discovery();
+  auto simulator = start_simulator({"--speed", "20", "--dropout", "0", "--seed", "3"});
   ASSERT_TRUE(observer_->wait_until([&] { return !observer_->scans.empty(); }, 60s))
       << log("sim.log") << log("scanner_io.log");
   std::lock_guard<std::mutex> lock(observer_->mutex);
@@ -181,8 +190,9 @@ TEST_F(ScannerPipeline, FullScanOfTheDefaultRoomArrivesWhole) {
 TEST_F(ScannerPipeline, ReconnectsAfterUnplugAndScansAgain) {
   use_domain(72);
   // Unplugged 20 s into the first scan (1 s real time at x20), back after 1 s.
-  auto simulator = start_simulator({"--speed", "20", "--unplug-at", "20", "--unplug-for", "1"});
   auto scanner_io = start_scanner_io("  resolution: 2\n");
+  wait_for_discovery();
+  auto simulator = start_simulator({"--speed", "20", "--unplug-at", "20", "--unplug-for", "1"});
   ASSERT_TRUE(observer_->wait_until([&] { return !observer_->scans.empty(); }, 90s))
       << log("sim.log") << log("scanner_io.log");
   EXPECT_TRUE(observer_->wait_until([&] { return observer_->counters["aborted_scans"] >= 1; }, 5s));
@@ -236,8 +246,9 @@ TEST_F(ScannerPipeline, DamagedStreamIsCountedNeverFatal) {
 
 TEST_F(ScannerPipeline, CommandsOverDdsStartAndStopTheScanner) {
   use_domain(75);
-  auto simulator = start_simulator({"--speed", "10"});
   auto scanner_io = start_scanner_io("  autostart: false\n");
+  wait_for_discovery();
+  auto simulator = start_simulator({"--speed", "10"});
   Participant participant(DdsSettings{"", "localhost", 75}, "scanbus/test_commands");
   Writer<scanbus::msg::ScannerCommandPubSubType> commands(participant, "rt/scanner/command");
   ASSERT_TRUE(commands.wait_for_readers(1, 20s));
