@@ -1,43 +1,32 @@
 #!/usr/bin/env bash
 # Bad configuration: one clear error line naming the file and key, exit code 2.
 set -uo pipefail
+source "$(dirname "$0")/lib.sh"
 scanbus=$1
 probe=$2
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 failures=0
 
-expect() {  # expect NAME PATTERN -- COMMAND...
-  local name=$1 pattern=$2; shift 3
-  local status=0
-  timeout 20 "$@" > "$work/out" 2> "$work/err" || status=$?
-  local lines
-  lines=$(wc -l < "$work/err")
-  if [ "$status" -ne 2 ] || [ "$lines" -ne 1 ] || ! grep -q -- "$pattern" "$work/err"; then
-    echo "FAIL $name: exit $status, $lines stderr line(s):"; cat "$work/err"; failures=$((failures + 1))
-  else
-    echo "ok   $name: $(cat "$work/err")"
-  fi
-}
 
 printf 'service:\n  health_period: 1\nprobe:\n  pionts: 5\n' > "$work/unknown.yaml"
-expect "unknown key" "unknown.yaml: unknown key 'probe.pionts'" -- "$probe" send --config "$work/unknown.yaml"
+expect_error 2 "unknown.yaml: unknown key 'probe.pionts'" -- "$probe" send --config "$work/unknown.yaml"
 
 printf 'service:\n  health_period: often\n' > "$work/type.yaml"
-expect "wrong type" "key 'service.health_period' must be a number, got 'often'" -- "$probe" send --config "$work/type.yaml"
+expect_error 2 "key 'service.health_period' must be a number, got 'often'" -- "$probe" send --config "$work/type.yaml"
 
 printf 'probe:\n  points: -3\n' > "$work/range.yaml"
-expect "out of range" "key 'probe.points' must be between 1 and 10000000, got -3" -- "$probe" send --config "$work/range.yaml"
+expect_error 2 "key 'probe.points' must be between 1 and 10000000, got -3" -- "$probe" send --config "$work/range.yaml"
 
-expect "missing file" "$work/missing.yaml: cannot open config file" -- "$probe" send --config "$work/missing.yaml"
+expect_error 2 "$work/missing.yaml: cannot open config file" -- "$probe" send --config "$work/missing.yaml"
 
 printf 'service: [1, 2\n' > "$work/syntax.yaml"
-expect "bad YAML" "syntax.yaml: invalid YAML at line" -- "$probe" send --config "$work/syntax.yaml"
+expect_error 2 "syntax.yaml: invalid YAML at line" -- "$probe" send --config "$work/syntax.yaml"
 
 printf 'qos:\n  rt/no_such_topic: {depth: 1}\n' > "$work/qos.yaml"
-expect "unknown topic in qos" "key 'qos.rt/no_such_topic' names an unknown topic" -- "$probe" send --config "$work/qos.yaml"
+expect_error 2 "key 'qos.rt/no_such_topic' names an unknown topic" -- "$probe" send --config "$work/qos.yaml"
 
-expect "run: unknown service" "unknown service 'nope'" -- "$scanbus" run nope
+expect_error 2 "unknown service 'nope'" -- "$scanbus" run nope
 
 # Every shipped config is valid for its service.
 for config in "$(dirname "$0")"/../../config/services/*.yaml; do

@@ -14,3 +14,30 @@ expect_clean_stop() {
     echo "$name did not stop cleanly within 1 s"; cat "$log"; return 1
   fi
 }
+
+# expect_exit CODE PATTERN -- COMMAND...: COMMAND exits with CODE, says PATTERN (on stdout
+# or stderr) and writes at most one line to stderr. Uses $work; counts into $failures.
+expect_exit() {
+  local code=$1 pattern=$2; shift 3
+  local status=0
+  timeout 60 "$@" > "$work/stdout" 2> "$work/stderr" || status=$?
+  if [ "$status" -ne "$code" ] || ! grep -q -- "$pattern" "$work/stdout" "$work/stderr" ||
+     [ "$(wc -l < "$work/stderr")" -gt 1 ]; then
+    echo "FAIL '$*': exit $status, wanted $code, '$pattern' and one stderr line:"
+    cat "$work/stdout" "$work/stderr"
+    failures=$((failures + 1))
+  else
+    echo "ok   exit $code: $(cat "$work/stderr" "$work/stdout" | head -c 160)"
+  fi
+}
+
+# expect_error CODE PATTERN -- COMMAND...: as expect_exit, and the error is exactly one
+# line on stderr that says PATTERN.
+expect_error() {
+  local before=$failures
+  expect_exit "$@"
+  if [ "$failures" -eq "$before" ] && { [ "$(wc -l < "$work/stderr")" -ne 1 ] || ! grep -q -- "$2" "$work/stderr"; }; then
+    echo "FAIL '${*:4}': the error is not one stderr line saying '$2'"
+    failures=$((failures + 1))
+  fi
+}

@@ -2,6 +2,7 @@
 # `scanbus room measure` from files: units, JSON, floor plans, bad input (exit 2 with a
 # clear message, never a crash), and the real room scan in ../shared when it is there.
 set -uo pipefail
+source "$(dirname "$0")/lib.sh"
 scanbus=$1
 shared=$2
 work=$(mktemp -d)
@@ -44,16 +45,6 @@ PY
 [ "$status" -eq 0 ] || fail "exit $status for a measurable room"
 grep -q "<svg" "$work/plan.svg" || fail "no SVG floor plan"
 
-expect_exit() {  # expect_exit CODE PATTERN -- COMMAND...
-  local code=$1 pattern=$2; shift 3
-  local status=0
-  timeout 60 "$@" > "$work/stdout" 2> "$work/stderr" || status=$?
-  if [ "$status" -ne "$code" ] || ! grep -q -- "$pattern" "$work/stdout" "$work/stderr" || [ "$(wc -l < "$work/stderr")" -gt 1 ]; then
-    fail "'$*': exit $status, wanted $code and '$pattern'"; cat "$work/stdout" "$work/stderr"
-  else
-    echo "ok   exit $code: $(cat "$work/stderr" "$work/stdout" | head -c 160)"
-  fi
-}
 
 : > "$work/empty.xyz"
 expect_exit 2 "no points" -- "$scanbus" room measure "$work/empty.xyz"
