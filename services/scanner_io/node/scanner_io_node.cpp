@@ -2,6 +2,7 @@
 // whole scan's cloud, and ScannerStatus out; ScannerCommand in, as device commands.
 #include "scanner_io_node.hpp"
 
+#include <cstdio>
 #include <deque>
 
 #include "scanbus/clock.hpp"
@@ -122,8 +123,10 @@ class ScannerIo : public Service {
 
   std::string gap_text() const {
     if (!lost_at_) return "";
-    const double gap = std::chrono::duration<double>(std::chrono::steady_clock::now() - *lost_at_).count();
-    return " after a gap of " + std::to_string(gap).substr(0, std::to_string(gap).find('.') + 2) + " s";
+    char text[48];
+    std::snprintf(text, sizeof(text), " after a gap of %.1f s",
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - *lost_at_).count());
+    return text;
   }
 
   void handle(const DeviceLine& line) {
