@@ -29,5 +29,6 @@ void add_demo_command(CLI::App& app, int& exit_code);
 void add_scan_command(CLI::App& app, int& exit_code);
 void add_sim_command(CLI::App& app, int& exit_code);
 void add_room_command(CLI::App& app, int& exit_code);
+void add_scanmatch_command(CLI::App& app, int& exit_code);
 
 }  // namespace scanbus::cli
