@@ -7,12 +7,16 @@
 #include <functional>
 #include <string>
 
+#include "scanbus/dds.hpp"
+
 namespace scanbus::cli {
 
 // Options every DDS-using subcommand shares.
 struct DdsOptions {
   std::string profile_file;  // empty: the built-in loopback profile
   int domain = 0;
+
+  DdsSettings settings() const { return {profile_file, "localhost", domain}; }
 };
 void add_dds_options(CLI::App& command, DdsOptions& options);
 

@@ -53,7 +53,7 @@ int run_echo(const EchoOptions& options) {
   }
   // Unknown topics: best effort and volatile match any writer.
   const QosSettings qos = known ? known->qos : QosSettings{false, false, false, 100};
-  Participant participant(DdsSettings{options.dds.profile_file, "localhost", options.dds.domain}, "scanbus/echo");
+  Participant participant(options.dds.settings(), "scanbus/echo");
   int code = 2;
   if (!visit_message_type(type, [&](auto tag) { code = echo<typename decltype(tag)::type>(participant, options, qos); })) {
     std::cerr << "scanbus echo: unknown type '" << type << "'\n";

@@ -48,7 +48,7 @@ void print_table(const std::map<std::string, scanbus::msg::Health>& latest, bool
 
 int run_health(const HealthOptions& options) {
   StopSignal::install();
-  Participant participant(DdsSettings{options.dds.profile_file, "localhost", options.dds.domain}, "scanbus/health");
+  Participant participant(options.dds.settings(), "scanbus/health");
   std::mutex mutex;
   std::map<std::string, scanbus::msg::Health> latest;  // by service and pid
   bool check_passed = false;

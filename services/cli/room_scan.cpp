@@ -44,7 +44,7 @@ RoomScanResult run_room_scan(const RoomScanOptions& options) {
   setenv("SCANBUS_DOMAIN_ID", std::to_string(options.dds.domain).c_str(), 1);
   if (!options.dds.profile_file.empty()) setenv("SCANBUS_DDS_PROFILE_FILE", options.dds.profile_file.c_str(), 1);
 
-  Participant participant(DdsSettings{options.dds.profile_file, "localhost", options.dds.domain}, "scanbus/scan");
+  Participant participant(options.dds.settings(), "scanbus/scan");
   std::mutex mutex;
   RoomScanResult result;
   int scans = 0;

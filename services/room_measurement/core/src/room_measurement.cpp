@@ -10,12 +10,6 @@ namespace scanbus::room_measurement {
 
 namespace {
 
-Eigen::Vector2d intersect(const Eigen::Vector2d& na, double oa, const Eigen::Vector2d& nb, double ob) {
-  Eigen::Matrix2d lines;
-  lines << na.transpose(), nb.transpose();
-  return lines.inverse() * Eigen::Vector2d(oa, ob);
-}
-
 // Corner-to-corner lengths and their one-sigma uncertainty from the offsets' standard
 // errors of the wall and its two neighbours (normal directions taken as exact).
 void measure_lengths(std::vector<MeasuredWall>& walls) {
@@ -25,8 +19,8 @@ void measure_lengths(std::vector<MeasuredWall>& walls) {
     const WallLine& wall = walls[i].line;
     const WallLine& after = walls[(i + 1) % count].line;
     auto length = [&](double d_before, double d_wall, double d_after) {
-      const Eigen::Vector2d start = intersect(before.normal, before.offset + d_before, wall.normal, wall.offset + d_wall);
-      const Eigen::Vector2d end = intersect(wall.normal, wall.offset + d_wall, after.normal, after.offset + d_after);
+      const Eigen::Vector2d start = intersect_lines(before.normal, before.offset + d_before, wall.normal, wall.offset + d_wall);
+      const Eigen::Vector2d end = intersect_lines(wall.normal, wall.offset + d_wall, after.normal, after.offset + d_after);
       return (end - start).norm();
     };
     walls[i].length = length(0, 0, 0);
@@ -169,7 +163,7 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
   for (size_t i = 0; i < count; ++i) {  // corners of the refined walls
     const WallLine& before = result.walls[(i + count - 1) % count].line;
     const WallLine& wall = result.walls[i].line;
-    result.corners.push_back(intersect(before.normal, before.offset, wall.normal, wall.offset));
+    result.corners.push_back(intersect_lines(before.normal, before.offset, wall.normal, wall.offset));
   }
   measure_lengths(result.walls);
   result.area = polygon_area(result.corners);

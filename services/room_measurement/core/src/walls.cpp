@@ -192,9 +192,7 @@ std::optional<Polygon> room_polygon(const std::vector<WallLine>& walls, const Po
             " are parallel: a wall between them is missing, the walls do not close a room";
       return std::nullopt;
     }
-    Eigen::Matrix2d lines;
-    lines << a.normal.transpose(), b.normal.transpose();
-    const Eigen::Vector2d corner = lines.inverse() * Eigen::Vector2d(a.offset, b.offset);
+    const Eigen::Vector2d corner = intersect_lines(a.normal, a.offset, b.normal, b.offset);
     if ((corner.array() < low.array() - settings.corner_margin).any() ||
         (corner.array() > high.array() + settings.corner_margin).any()) {
       why = "walls " + std::to_string(i == 0 ? count : i) + " and " + std::to_string(i + 1) +
@@ -213,6 +211,12 @@ std::optional<Polygon> room_polygon(const std::vector<WallLine>& walls, const Po
       }
     }
   return polygon;
+}
+
+Eigen::Vector2d intersect_lines(const Eigen::Vector2d& na, double oa, const Eigen::Vector2d& nb, double ob) {
+  Eigen::Matrix2d lines;
+  lines << na.transpose(), nb.transpose();
+  return lines.inverse() * Eigen::Vector2d(oa, ob);
 }
 
 double polygon_area(const std::vector<Eigen::Vector2d>& corners) {

@@ -54,4 +54,7 @@ std::optional<Polygon> room_polygon(const std::vector<WallLine>& walls, const Po
 
 double polygon_area(const std::vector<Eigen::Vector2d>& corners);
 
+// Where the lines na . p = oa and nb . p = ob meet (they must not be parallel).
+Eigen::Vector2d intersect_lines(const Eigen::Vector2d& na, double oa, const Eigen::Vector2d& nb, double ob);
+
 }  // namespace scanbus::room_measurement
