@@ -22,9 +22,9 @@ int run_measure(const RoomOptions& options) {
   room_measurement::RoomSettings settings;
   try {
     if (!options.config.empty()) {
-      const Config config = Config::load(options.config);
-      settings = room_measurement::room_settings_from_config(config.section("room_measurement"));
-      config.check_all_read();
+      const Config section = Config::load(options.config).section("room_measurement");
+      settings = room_measurement::room_settings_from_config(section);
+      section.check_all_read();
     }
   } catch (const ConfigError& e) {
     std::cerr << "scanbus room measure: config error: " << e.what() << "\n";

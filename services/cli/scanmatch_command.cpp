@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 
 #include "commands.hpp"
@@ -15,7 +16,7 @@ namespace {
 using namespace scan_matcher;
 
 struct EvalOptions {
-  std::string log, relations;
+  std::string log, relations, config, trajectory;
   bool odometry_guess = false;
   bool json = false;
   double max_span = 10.0;  // s, for the separate short-relation figures
@@ -25,18 +26,39 @@ nlohmann::json stats_json(const ErrorStats& stats, double scale) {
   return {{"mean", stats.mean * scale}, {"std", stats.std * scale}, {"max", stats.max * scale}};
 }
 
+// The `scan_matcher.matcher` section of a scan_matcher service file; defaults without one.
+MatcherSettings load_matcher_settings(const std::string& path) {
+  if (path.empty()) return {};
+  const Config section = Config::load(path).section("scan_matcher").section("matcher");
+  MatcherSettings settings = matcher_settings_from_config(section);
+  section.check_all_read();
+  return settings;
+}
+
+// One line per scan, "stamp x y theta", as TUM-style trajectory tools read them.
+void write_trajectory(const std::string& path, const std::vector<double>& stamps, const std::vector<Pose2>& poses) {
+  std::ofstream out(path);
+  out << std::fixed;
+  out.precision(6);
+  for (size_t i = 0; i < poses.size(); ++i)
+    out << stamps[i] << ' ' << poses[i].x << ' ' << poses[i].y << ' ' << poses[i].theta << '\n';
+  if (!out) throw std::runtime_error(path + ": cannot write the trajectory");
+}
+
 int run_eval(const EvalOptions& options) {
   std::vector<LaserRecord> records;
   std::vector<Relation> relations;
+  MatcherSettings settings;
   try {
+    settings = load_matcher_settings(options.config);
     records = read_carmen_log(options.log);
     relations = read_relations(options.relations);
-  } catch (const LogError& e) {
+  } catch (const std::runtime_error& e) {  // LogError, ConfigError
     std::cerr << "scanbus scanmatch eval: " << e.what() << "\n";
     return 2;
   }
   const bool progress = !options.json && isatty(STDOUT_FILENO);
-  ScanMatcher matcher;
+  ScanMatcher matcher(settings);
   std::vector<double> stamps;
   std::vector<Pose2> poses;
   size_t failed = 0;
@@ -55,6 +77,7 @@ int run_eval(const EvalOptions& options) {
       std::printf("\rmatching: scan %zu of %zu", i + 1, records.size()), std::fflush(stdout);
   }
   if (progress) std::printf("\n");
+  if (!options.trajectory.empty()) write_trajectory(options.trajectory, stamps, poses);
   const RelationErrors all = evaluate_relations(stamps, poses, relations);
   const RelationErrors short_span = evaluate_relations(stamps, poses, relations, options.max_span);
   const double rate = static_cast<double>(records.size()) / std::max(matching_seconds, 1e-9);
@@ -97,6 +120,8 @@ void add_scanmatch_command(CLI::App& app, int& exit_code) {
   auto* eval = scanmatch->add_subcommand("eval", "Match a CARMEN log's scans and score them against relations");
   eval->add_option("--log", options.log, "CARMEN log (FLASER or ROBOTLASER1 lines)")->required();
   eval->add_option("--relations", options.relations, "Relations file (t1 t2 x y z roll pitch yaw)")->required();
+  eval->add_option("--config", options.config, "Service file with a scan_matcher.matcher section (default: built-in)");
+  eval->add_option("--trajectory", options.trajectory, "Write the matched poses, one 'stamp x y theta' line per scan");
   eval->add_flag("--odometry-guess", options.odometry_guess, "Use wheel odometry as each match's initial guess");
   eval->add_option("--max-span", options.max_span, "Also report relations at most this many seconds apart");
   eval->add_flag("--json", options.json, "Print one JSON object");

@@ -67,6 +67,9 @@ expect_exit 2 "unknown format '.las'" -- "$scanbus" room measure "$work/x.las"
 expect_exit 2 "cannot open" -- "$scanbus" room measure "$work/missing.pcd"
 printf 'room_measurement:\n  voxel_leef: 0.1\n' > "$work/bad.yaml"
 expect_exit 2 "unknown key 'room_measurement.voxel_leef'" -- "$scanbus" room measure "$work/room_cm.xyz" --config "$work/bad.yaml"
+# The service's own file (service, dds sections and all) is a valid --config.
+"$scanbus" room measure "$work/room_cm.xyz" --unit cm --config "$(dirname "$0")/../../config/services/room_measurement.yaml" \
+  > "$work/service_config.txt" 2>&1 || { cat "$work/service_config.txt"; fail "service config rejected by room measure"; }
 
 # The real scan: an open room. A result or a clear status, the same twice, never a crash.
 real="$shared/data/rooms/room_scan1.pcd"

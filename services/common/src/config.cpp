@@ -179,7 +179,7 @@ std::vector<Config> Config::maps(const std::string& key) const {
   return out;
 }
 
-void Config::check_all_read() const { check_node(state_->root, ""); }
+void Config::check_all_read() const { check_node(node_, prefix_); }
 
 void Config::check_node(const YAML::Node& node, const std::string& prefix) const {
   for (const auto& entry : node) {

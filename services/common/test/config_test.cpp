@@ -42,6 +42,16 @@ TEST(Config, UnknownTopLevelSectionIsReported) {
   EXPECT_EQ(error_of([&] { config.check_all_read(); }), "svc.yaml: unknown key 'servce'");
 }
 
+TEST(Config, ASectionChecksOnlyItsOwnKeys) {
+  // A command line tool reads one service's section of that service's file.
+  const Config config = Config::parse("service: {health_period: 1}\nmatcher:\n  trim: 0.9\n  trm: 1\n", "m.yaml");
+  const Config matcher = config.section("matcher");
+  matcher.number("trim", 0.9, 0, 1);
+  EXPECT_EQ(error_of([&] { matcher.check_all_read(); }), "m.yaml: unknown key 'matcher.trm'");
+  matcher.number("trm", 0, 0, 1);
+  EXPECT_NO_THROW(matcher.check_all_read());
+}
+
 TEST(Config, WrongTypeNamesKeyAndValue) {
   const Config config = Config::parse("service:\n  health_period: fast\n", "svc.yaml");
   EXPECT_EQ(error_of([&] { config.section("service").number("health_period", 1.0, 0.0, 10.0); }),

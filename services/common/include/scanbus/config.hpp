@@ -45,8 +45,11 @@ class Config {
   std::vector<Config> maps(const std::string& key) const;
   // Throws ConfigError saying the key is required.
   [[noreturn]] void missing(const std::string& key) const;
+  // Throws ConfigError naming the file and the key: "<file>: key '<a.b>' <what>".
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const;
 
-  // Throws ConfigError naming the first key of the file that no getter asked for.
+  // Throws ConfigError naming the first key under this view (the whole file for the
+  // loaded root) that no getter asked for.
   void check_all_read() const;
 
   const std::string& origin() const { return state_->origin; }
@@ -62,7 +65,6 @@ class Config {
   Config(std::shared_ptr<State> state, YAML::Node node, std::string prefix);
   YAML::Node scalar(const std::string& key) const;
   std::vector<double> row_of(const YAML::Node& list, const std::string& key, size_t width) const;
-  [[noreturn]] void fail(const std::string& key, const std::string& what) const;
   void check_node(const YAML::Node& node, const std::string& prefix) const;
 
   std::shared_ptr<State> state_;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 
 namespace scanbus::scan_matcher {
 
@@ -37,13 +38,23 @@ struct LocalLine {
 
 constexpr double kMaxLineSpread = 0.3;  // smallest over largest eigenvalue of a neighbourhood
 
-std::vector<LocalLine> local_lines(const std::vector<Eigen::Vector2d>& points, int neighbours, double max_gap) {
+std::vector<LocalLine> local_lines(const std::vector<Eigen::Vector2d>& points, int neighbours, double min_length,
+                                   double max_gap) {
   std::vector<LocalLine> lines(points.size());
   const long count = static_cast<long>(points.size());
+  // Dense rays (close surfaces, fine resolution) need more neighbours for a line long
+  // enough that range noise does not turn it: grow until min_length is spanned.
+  const long most = 8 * static_cast<long>(neighbours);
   for (long i = 0; i < count; ++i) {
     long low = i, high = i;
-    while (low > 0 && i - low < neighbours && (points[low - 1] - points[low]).norm() <= max_gap) --low;
-    while (high + 1 < count && high - i < neighbours && (points[high + 1] - points[high]).norm() <= max_gap) ++high;
+    auto step_down = [&] { return low > 0 && (points[low - 1] - points[low]).norm() <= max_gap; };
+    auto step_up = [&] { return high + 1 < count && (points[high + 1] - points[high]).norm() <= max_gap; };
+    while (i - low < neighbours && step_down()) --low;
+    while (high - i < neighbours && step_up()) ++high;
+    while ((points[high] - points[low]).norm() < min_length && high - low < 2 * most && (step_down() || step_up())) {
+      if (step_down()) --low;
+      if (step_up()) ++high;
+    }
     if (high - low < 1) continue;
     Eigen::Vector2d centre = Eigen::Vector2d::Zero();
     for (long j = low; j <= high; ++j) centre += points[j];
@@ -60,16 +71,37 @@ std::vector<LocalLine> local_lines(const std::vector<Eigen::Vector2d>& points, i
 
 }  // namespace
 
+struct ScanMatcher::Keyframe {
+  Keyframe(const Pose2& pose, std::vector<Eigen::Vector2d> scan_points, const MatcherSettings& settings)
+      : pose(pose), points(std::move(scan_points)),
+        lines(local_lines(points, settings.line_neighbours, settings.min_line_length, settings.max_segment_gap)) {}
+  Pose2 pose;  // where the scan was taken
+  std::vector<Eigen::Vector2d> points;
+  std::vector<LocalLine> lines;
+};
+
+// Points and their local lines, in the frame they were built in; the lines come from each
+// scan's own ray order, so a map of several keyframes keeps every scan's lines.
 struct ScanMatcher::Reference {
-  Reference(std::vector<Eigen::Vector2d> points, const MatcherSettings& settings)
-      : set{std::move(points)}, lines(local_lines(set.points, settings.line_neighbours, settings.max_segment_gap)),
-        tree(2, set, {10}) {
+  explicit Reference(const std::vector<const Keyframe*>& keyframes) {
+    for (const Keyframe* keyframe : keyframes) {
+      const Eigen::Rotation2Dd rotation(keyframe->pose.theta);
+      const Eigen::Vector2d translation(keyframe->pose.x, keyframe->pose.y);
+      for (size_t i = 0; i < keyframe->points.size(); ++i) {
+        set.points.push_back(rotation * keyframe->points[i] + translation);
+        LocalLine line = keyframe->lines[i];
+        line.centre = rotation * line.centre + translation;
+        line.normal = rotation * line.normal;
+        lines.push_back(line);
+      }
+    }
     tree.buildIndex();
   }
   PointSet set;
   std::vector<LocalLine> lines;
-  KdTree tree;
+  KdTree tree{2, set, {10}};
 };
+
 
 ScanMatcher::ScanMatcher(MatcherSettings settings) : settings_(settings) {}
 ScanMatcher::~ScanMatcher() = default;
@@ -90,12 +122,12 @@ std::vector<Eigen::Vector2d> ScanMatcher::points_of(const Scan& scan) const {
 
 MatchResult ScanMatcher::align(const std::vector<Eigen::Vector2d>& reference, const std::vector<Eigen::Vector2d>& scan,
                                const Pose2& guess) const {
-  const Reference built(reference, settings_);
-  return align_to(built, scan, guess);
+  const Keyframe keyframe(Pose2{}, reference, settings_);
+  return align_to(Reference({&keyframe}), scan, guess, guess);
 }
 
 MatchResult ScanMatcher::align_to(const Reference& reference, const std::vector<Eigen::Vector2d>& scan,
-                                  const Pose2& guess) const {
+                                  const Pose2& guess, const Pose2& prior) const {
   MatchResult result;
   const auto& ref = reference.set.points;
   if (ref.size() < 2) {
@@ -120,6 +152,9 @@ MatchResult ScanMatcher::align_to(const Reference& reference, const std::vector<
       if (!line.valid) continue;
       matches.push_back({i, line.normal, line.normal.dot(q - line.centre)});
     }
+    result.inliers = static_cast<size_t>(std::count_if(matches.begin(), matches.end(), [&](const auto& m) {
+      return std::abs(m.error) < settings_.inlier_distance;
+    }));
     if (matches.size() < settings_.min_correspondences) {
       result.quality = MatchQuality::TooFewCorrespondences;
       break;
@@ -143,7 +178,12 @@ MatchResult ScanMatcher::align_to(const Reference& reference, const std::vector<
       gradient += jacobian * m.error;
       error_sum += std::abs(m.error);
     }
-    const Eigen::Vector3d step = hessian.ldlt().solve(-gradient);
+    // A weak pull towards the prior: along a corridor, where the walls leave the motion
+    // unconstrained, the pose keeps the prediction instead of sliding.
+    const Eigen::Vector3d from_guess(x[0] - prior.x, x[1] - prior.y, Pose2::normalize(x[2] - prior.theta));
+    const Eigen::Vector3d step = (hessian + settings_.prior_weight * Eigen::Matrix3d::Identity())
+                                     .ldlt()
+                                     .solve(-(gradient + settings_.prior_weight * from_guess));
     if (!step.allFinite()) {
       result.quality = MatchQuality::Diverged;
       break;
@@ -161,45 +201,104 @@ MatchResult ScanMatcher::align_to(const Reference& reference, const std::vector<
     double squares = 0;
     for (const auto& m : matches) squares += m.error * m.error;
     const double variance = squares / std::max<double>(1.0, static_cast<double>(matches.size()) - 3);
-    result.covariance = variance * hessian.inverse();
+    // From the scan alone (without the prior), so an unconstrained direction shows as one.
+    result.covariance = variance * (hessian + 1e-9 * Eigen::Matrix3d::Identity()).inverse();
   }
   return result;
 }
 
 MatchResult ScanMatcher::add_scan(const Scan& scan, const std::optional<Pose2>& motion_guess) {
   std::vector<Eigen::Vector2d> points = points_of(scan);
-  if (!keyframe_) {
-    keyframe_ = std::make_unique<Reference>(std::move(points), settings_);
-    keyframe_pose_ = pose_;
+  if (keyframes_.empty()) {
+    add_keyframe(std::move(points));
     MatchResult first;
     first.quality = MatchQuality::NoReference;
     first.pose = pose_;
     first.keyframe = true;
     return first;
   }
-  const Pose2 motion = motion_guess.value_or(last_increment_);
-  const Pose2 guess = keyframe_pose_.inverse() * (pose_ * motion);  // predicted pose in the keyframe's frame
-  MatchResult result = align_to(*keyframe_, points, guess);
+  MatchResult result = best_alignment(points, motion_guess);
   const Pose2 previous = pose_;
-  Pose2 matched = keyframe_pose_ * result.increment;
+  const Pose2 matched = result.increment;  // align_to's result is the pose in the map frame
   if (result.quality == MatchQuality::Ok && (previous.inverse() * matched).distance() > settings_.max_jump)
     result.quality = MatchQuality::Diverged;
   if (result.quality == MatchQuality::Ok) {
-    pose_ = matched;
-  } else if (motion_guess) {
-    pose_ = pose_ * *motion_guess;  // an external measurement, not a jump
+    pose_ = matched;  // a failed match holds the pose
+    typical_residual_ = typical_residual_ == 0 ? result.residual : 0.9 * typical_residual_ + 0.1 * result.residual;
   }
   result.increment = previous.inverse() * pose_;
   last_increment_ = result.quality == MatchQuality::Ok ? result.increment : Pose2{};
   result.pose = pose_;
-  const Pose2 from_keyframe = keyframe_pose_.inverse() * pose_;
+  const Pose2 from_keyframe = keyframes_.back()->pose.inverse() * pose_;
   if (result.quality == MatchQuality::Ok && (from_keyframe.distance() > settings_.keyframe_distance ||
                                              std::abs(from_keyframe.theta) > settings_.keyframe_angle)) {
-    keyframe_ = std::make_unique<Reference>(std::move(points), settings_);
-    keyframe_pose_ = pose_;
+    add_keyframe(std::move(points));
     result.keyframe = true;
   }
   return result;
+}
+
+// A wrong initial guess (odometry lagging, a turn reversing or speeding up) converges to a
+// wrong minimum, which shows as a residual well above the recent ones. Then the previous
+// increment, no motion and turns of up to +-30 degrees from the guess are tried too, and the
+// alignment explaining most points wins.
+MatchResult ScanMatcher::best_alignment(const std::vector<Eigen::Vector2d>& points,
+                                        const std::optional<Pose2>& motion_guess) const {
+  const Pose2 guess = motion_guess.value_or(last_increment_);
+  const Pose2 prior = pose_ * guess;
+  MatchResult best = align_to(*map_, points, pose_ * guess, prior);
+  const bool plausible = best.quality == MatchQuality::Ok &&
+                         (typical_residual_ == 0 || best.residual < settings_.suspicious_residual * typical_residual_);
+  if (plausible) return best;
+  constexpr double kDegree = M_PI / 180;
+  std::vector<Pose2> motions = {last_increment_, Pose2{}};
+  for (const double turn : {-30.0, -20.0, -10.0, 10.0, 20.0, 30.0})
+    motions.push_back({guess.x, guess.y, Pose2::normalize(guess.theta + turn * kDegree)});
+  for (const Pose2& motion : motions) {
+    MatchResult result = align_to(*map_, points, pose_ * motion, prior);
+    const bool better = result.quality == MatchQuality::Ok &&
+                        (best.quality != MatchQuality::Ok || result.inliers > best.inliers ||
+                         (result.inliers == best.inliers && result.residual < best.residual));
+    if (better) best = result;
+  }
+  return best;
+}
+
+void ScanMatcher::add_keyframe(std::vector<Eigen::Vector2d> points) {
+  keyframes_.push_back(std::make_unique<Keyframe>(pose_, std::move(points), settings_));
+  while (keyframes_.size() > static_cast<size_t>(settings_.map_keyframes)) keyframes_.pop_front();
+  std::vector<const Keyframe*> in_map;
+  for (const auto& keyframe : keyframes_) in_map.push_back(keyframe.get());
+  map_ = std::make_unique<Reference>(in_map);
+}
+
+}  // namespace scanbus::scan_matcher
+
+namespace scanbus::scan_matcher {
+
+MatcherSettings matcher_settings_from_config(const Config& section) {
+  constexpr double kDegree = M_PI / 180;
+  MatcherSettings s;
+  s.range_min = section.number("range_min", s.range_min, 0, 1000);
+  s.range_max = section.number("range_max", s.range_max, 0, 1000);
+  s.opening = section.number("opening", s.opening / kDegree, 1, 360) * kDegree;
+  s.max_correspondence = section.number("max_correspondence", s.max_correspondence, 0.001, 100);
+  s.max_segment_gap = section.number("max_segment_gap", s.max_segment_gap, 0.001, 100);
+  s.line_neighbours = static_cast<int>(section.integer("line_neighbours", s.line_neighbours, 1, 50));
+  s.min_line_length = section.number("min_line_length", s.min_line_length, 0, 100);
+  s.trim = section.number("trim", s.trim, 0.1, 1);
+  s.max_iterations = static_cast<int>(section.integer("max_iterations", s.max_iterations, 1, 1000));
+  s.epsilon = section.number("epsilon", s.epsilon, 0, 1);
+  s.min_correspondences = static_cast<size_t>(section.integer("min_correspondences", 30, 3, 100000));
+  s.max_jump = section.number("max_jump", s.max_jump, 0.001, 1000);
+  s.keyframe_distance = section.number("keyframe_distance", s.keyframe_distance, 0, 1000);
+  s.keyframe_angle = section.number("keyframe_angle", s.keyframe_angle / kDegree, 0, 180) * kDegree;
+  s.inlier_distance = section.number("inlier_distance", s.inlier_distance, 0.001, 10);
+  s.prior_weight = section.number("prior_weight", s.prior_weight, 0, 1e6);
+  s.suspicious_residual = section.number("suspicious_residual", s.suspicious_residual, 1, 1000);
+  s.map_keyframes = static_cast<int>(section.integer("map_keyframes", s.map_keyframes, 1, 1000));
+  if (s.range_max <= s.range_min) section.fail("range_max", "must be larger than range_min");
+  return s;
 }
 
 }  // namespace scanbus::scan_matcher

@@ -8,10 +8,12 @@
 
 #include <Eigen/Core>
 
+#include <deque>
 #include <memory>
 #include <optional>
 #include <vector>
 
+#include "scanbus/config.hpp"
 #include "scanbus/scan_matcher/pose2.hpp"
 
 namespace scanbus::scan_matcher {
@@ -31,6 +33,7 @@ struct MatcherSettings {
                                       // neighbours on each side (1: Censi's two-point segment);
                                       // with 2 cm noise and 0.5 degree rays two points give no
                                       // usable direction
+  double min_line_length = 0.3;       // m: more neighbours join until the line spans this
   double trim = 0.9;                  // share of correspondences kept, best first
   int max_iterations = 40;
   double epsilon = 1e-5;              // m and rad: converged when a step is smaller
@@ -38,7 +41,18 @@ struct MatcherSettings {
   double max_jump = 1.0;              // m per scan: a larger increment is a divergence
   double keyframe_distance = 0.1;     // m since the keyframe before a new one
   double keyframe_angle = 10 * M_PI / 180;
+  double prior_weight = 1.0;          // pull towards the initial guess, per m (and rad) squared,
+                                      // against one per correspondence: keeps unconstrained
+                                      // directions (a corridor's length) at the prediction
+  double suspicious_residual = 2.0;   // a residual this many times the recent ones makes the
+                                      // matcher try other initial guesses
+  double inlier_distance = 0.05;      // m: a point this close to its line counts as explained
+  int map_keyframes = 1;              // the reference is the union of this many latest keyframes
 };
+
+// Section `scan_matcher.matcher` of config/services/scan_matcher.yaml (angles in degrees
+// there, radians here).
+MatcherSettings matcher_settings_from_config(const Config& section);
 
 enum class MatchQuality : uint8_t { Ok = 0, TooFewCorrespondences = 1, Diverged = 2, NoReference = 3 };
 
@@ -50,6 +64,7 @@ struct MatchResult {
   int iterations = 0;
   size_t correspondences = 0;
   double residual = 0;              // m, mean |point-to-line error| of the kept correspondences
+  size_t inliers = 0;               // correspondences within inlier_distance
   bool keyframe = false;            // this scan is the new reference
 };
 
@@ -74,14 +89,20 @@ class ScanMatcher {
                     const Pose2& guess) const;
 
  private:
+  struct Keyframe;
   struct Reference;
-  MatchResult align_to(const Reference& reference, const std::vector<Eigen::Vector2d>& scan, const Pose2& guess) const;
+  // Gauss-Newton from `guess`, weakly pulled towards `prior` (both in the reference frame).
+  MatchResult align_to(const Reference& reference, const std::vector<Eigen::Vector2d>& scan, const Pose2& guess,
+                       const Pose2& prior) const;
+  MatchResult best_alignment(const std::vector<Eigen::Vector2d>& points, const std::optional<Pose2>& motion_guess) const;
+  void add_keyframe(std::vector<Eigen::Vector2d> points);
 
   MatcherSettings settings_;
-  std::unique_ptr<Reference> keyframe_;
-  Pose2 keyframe_pose_;
+  std::deque<std::unique_ptr<Keyframe>> keyframes_;  // oldest first
+  std::unique_ptr<Reference> map_;                    // the keyframes' points in the first scan's frame
   Pose2 pose_;
   Pose2 last_increment_;
+  double typical_residual_ = 0;  // m, running mean of accepted matches' residuals
 };
 
 }  // namespace scanbus::scan_matcher
