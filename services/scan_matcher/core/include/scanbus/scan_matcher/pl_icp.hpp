@@ -35,8 +35,8 @@ struct MatcherSettings {
                                       // usable direction
   double min_line_length = 0.3;       // m: more neighbours join until the line spans this
   double trim = 0.9;                  // share of correspondences kept, best first
-  int max_iterations = 40;
-  double epsilon = 1e-5;              // m and rad: converged when a step is smaller
+  int max_iterations = 20;
+  double epsilon = 1e-4;              // m and rad: converged when a step is smaller
   size_t min_correspondences = 30;
   double max_jump = 1.0;              // m per scan: a larger increment is a divergence
   double keyframe_distance = 0.1;     // m since the keyframe before a new one

@@ -1,0 +1,77 @@
+// PL-ICP scan matching per scan (ScanMatcher::add_scan: range gating, correspondence search,
+// Gauss-Newton, keyframes) on one core. Target (issue 5): 2,000 scans per second for
+// 361-ray scans. Two inputs: a synthetic room flight (always there) and the real MIT CSAIL
+// log of the Freiburg benchmark (skipped when ../shared is absent).
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+
+#include "laser_world.hpp"
+#include "scanbus/scan_matcher/laser_log.hpp"
+#include "scanbus/scan_matcher/pl_icp.hpp"
+
+namespace {
+
+using namespace scanbus;
+using scan_matcher::Pose2;
+using scan_matcher::Scan;
+
+std::vector<Scan> room_flight() {
+  const auto world = test_support::LaserWorld::room();
+  std::mt19937 random(3);
+  std::vector<Scan> scans;
+  Pose2 pose{-1.5, -0.5, 0.2};
+  for (int i = 0; i < 200; ++i) {
+    scans.push_back(world.scan(pose, {}, random));
+    pose = pose * Pose2{0.02, 0.0, (i % 100 < 50 ? 1.0 : -1.0) * M_PI / 180};
+  }
+  return scans;
+}
+
+std::vector<Scan> mit_csail() {
+  const std::string path = std::string(SCANBUS_SOURCE_DIR) + "/../shared/data/freiburg/mit-csail.clf";
+  std::vector<Scan> scans;
+  if (!std::filesystem::exists(path)) return scans;
+  for (const auto& record : scan_matcher::read_carmen_log(path))
+    scans.push_back({record.angle_min, record.angle_increment, record.ranges});
+  return scans;
+}
+
+// Matches the scans in order, starting over with a new matcher at the end.
+void match(benchmark::State& state, const std::vector<Scan>& scans) {
+  if (scans.empty()) {
+    state.SkipWithError("../shared/data/freiburg/mit-csail.clf not found");
+    return;
+  }
+  auto matcher = std::make_unique<scan_matcher::ScanMatcher>();
+  size_t next = 0, failed = 0;
+  for (auto _ : state) {
+    if (next == scans.size()) {
+      state.PauseTiming();
+      matcher = std::make_unique<scan_matcher::ScanMatcher>();
+      next = 0;
+      state.ResumeTiming();
+    }
+    const auto result = matcher->add_scan(scans[next++]);
+    failed += next > 1 && result.quality != scan_matcher::MatchQuality::Ok;
+  }
+  state.SetItemsProcessed(state.iterations());  // items per second = scans per second
+  state.counters["rays"] = static_cast<double>(scans.front().ranges.size());
+  state.counters["failed"] = static_cast<double>(failed);
+}
+
+void MatchRoomFlight(benchmark::State& state) {
+  static const auto scans = room_flight();
+  match(state, scans);
+}
+
+void MatchMitCsail(benchmark::State& state) {
+  static const auto scans = mit_csail();
+  match(state, scans);
+}
+
+}  // namespace
+
+BENCHMARK(MatchRoomFlight)->Unit(benchmark::kMicrosecond);
+BENCHMARK(MatchMitCsail)->Unit(benchmark::kMicrosecond);
+BENCHMARK_MAIN();
