@@ -6,6 +6,7 @@
 #include <limits>
 #include <random>
 
+#include "scanbus/scan_matcher/imu_guess.hpp"
 #include "scanbus/scan_matcher/laser_log.hpp"
 #include "scanbus/scan_matcher/pl_icp.hpp"
 #include "laser_world.hpp"
@@ -200,4 +201,29 @@ TEST(Relations, MetricOfKuemmerle) {
   EXPECT_NEAR(errors.translational.max, 0.1, 1e-12);
   EXPECT_NEAR(errors.translational.mean, 0.05, 1e-12);
   EXPECT_EQ(evaluate_relations(stamps, poses, relations, 1.5).translational.count, 1u);
+}
+
+TEST(ImuGuess, TurnAboutTheLaserAxis) {
+  using Eigen::AngleAxisd;
+  using Eigen::Vector3d;
+  const Eigen::Quaterniond level(AngleAxisd(0.3, Vector3d::UnitZ()));
+  // Yawing by 5 degrees while pitching: a horizontal laser sees the yaw only.
+  const Eigen::Quaterniond turned =
+      level * Eigen::Quaterniond(AngleAxisd(5 * M_PI / 180, Vector3d::UnitZ()) * AngleAxisd(0.01, Vector3d::UnitY()));
+  EXPECT_NEAR(rotation_about(level, turned, Vector3d::UnitZ()), 5 * M_PI / 180, 1e-3);
+  // A downward laser whose scan plane turns with the pitch (its z axis along the body's y).
+  const Eigen::Quaterniond pitched = level * Eigen::Quaterniond(AngleAxisd(-0.05, Vector3d::UnitY()));
+  EXPECT_NEAR(rotation_about(level, pitched, Vector3d::UnitY()), -0.05, 1e-9);
+  EXPECT_NEAR(rotation_about(level, pitched, Vector3d::UnitZ()), 0, 1e-9);
+}
+
+TEST(ImuGuess, HistoryGivesTheLastSampleAtOrBeforeAStamp) {
+  OrientationHistory history(3);
+  EXPECT_FALSE(history.at(1.0));
+  for (int i = 1; i <= 4; ++i)
+    history.add(i, Eigen::Quaterniond(Eigen::AngleAxisd(0.1 * i, Eigen::Vector3d::UnitZ())));
+  EXPECT_FALSE(history.at(1.5)) << "sample 1 fell out of the bounded history";
+  EXPECT_NEAR(Eigen::AngleAxisd(*history.at(3.5)).angle(), 0.3, 1e-12);
+  history.add(3.2, Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ())));  // arrived late
+  EXPECT_NEAR(Eigen::AngleAxisd(*history.at(3.5)).angle(), 0.7, 1e-12);
 }
