@@ -1,10 +1,14 @@
 #include <unistd.h>
 
+#include <Eigen/Geometry>
+
 #include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <limits>
 
+#include "backtransform_plot.hpp"
 #include "commands.hpp"
 #include "scanbus/scan_matcher/laser_log.hpp"
 #include "scanbus/scan_matcher/pl_icp.hpp"
@@ -111,6 +115,134 @@ int run_eval(const EvalOptions& options) {
   return 0;
 }
 
+struct BacktransformOptions {
+  std::string log, config, out;
+  long row = -1;           // the pair (row, row + 1); -1 with --all
+  bool all = false, json = false;
+  double max_median = 0.03;  // m: a pair whose median residual is larger is suspect (on the MIT
+                             // CSAIL log 99 % of pairs stay under it; new surfaces and clutter
+                             // put a tenth of the points further off, so the p90 is reported only)
+};
+
+struct PairCheck {
+  size_t row = 0;
+  MatchResult match;
+  double median = 0, p90 = 0;  // m, point-to-line residuals after back-transformation
+  size_t points = 0;
+  bool suspect = false;
+};
+
+double percentile(std::vector<double> values, double share) {
+  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const auto at = values.begin() + static_cast<long>(share * static_cast<double>(values.size() - 1));
+  std::nth_element(values.begin(), at, values.end());
+  return *at;
+}
+
+// Algorithm 3.1 of the MAV paper: match scan row+1 to scan row, carry it back by the
+// increment, and measure how well it lies on scan row.
+PairCheck check_pair(const ScanMatcher& matcher, const std::vector<LaserRecord>& records, size_t row,
+                     double max_median, std::vector<Eigen::Vector2d>* reference_out = nullptr,
+                     std::vector<Eigen::Vector2d>* moved_out = nullptr) {
+  const auto& a = records[row];
+  const auto& b = records[row + 1];
+  const auto reference = matcher.points_of({a.angle_min, a.angle_increment, a.ranges});
+  const auto scan = matcher.points_of({b.angle_min, b.angle_increment, b.ranges});
+  PairCheck check;
+  check.row = row;
+  check.match = matcher.align(reference, scan, Pose2{});
+  const std::vector<double> residuals = matcher.residuals(reference, scan, check.match.increment);
+  check.points = residuals.size();
+  check.median = percentile(residuals, 0.5);
+  check.p90 = percentile(residuals, 0.9);
+  check.suspect = check.match.quality != MatchQuality::Ok || !(check.median <= max_median);
+  if (reference_out) *reference_out = reference;
+  if (moved_out) {
+    const Eigen::Matrix2d rotation = Eigen::Rotation2Dd(check.match.increment.theta).toRotationMatrix();
+    for (const auto& p : scan)
+      moved_out->push_back(rotation * p + Eigen::Vector2d(check.match.increment.x, check.match.increment.y));
+  }
+  return check;
+}
+
+nlohmann::json pair_json(const PairCheck& check) {
+  const Pose2& i = check.match.increment;
+  return {{"row", check.row},
+          {"increment", {{"x", i.x}, {"y", i.y}, {"theta_deg", i.theta * 180 / M_PI}}},
+          {"quality", static_cast<int>(check.match.quality)},
+          {"residual_median_m", check.median},
+          {"residual_p90_m", check.p90},
+          {"points", check.points},
+          {"verdict", check.suspect ? "suspect" : "ok"}};
+}
+
+std::string pair_line(const PairCheck& check) {
+  const Pose2& i = check.match.increment;
+  char line[200];
+  std::snprintf(line, sizeof(line),
+                "scans %zu-%zu: increment %.3f %.3f m %.2f deg, residual median %.4f m, p90 %.4f m over %zu points: %s",
+                check.row, check.row + 1, i.x, i.y, i.theta * 180 / M_PI, check.median, check.p90, check.points,
+                check.suspect ? "SUSPECT" : "ok");
+  return line;
+}
+
+int run_backtransform(const BacktransformOptions& options) {
+  std::vector<LaserRecord> records;
+  MatcherSettings settings;
+  try {
+    settings = load_matcher_settings(options.config);
+    records = read_carmen_log(options.log);
+  } catch (const std::runtime_error& e) {  // LogError, ConfigError
+    std::cerr << "scanbus scanmatch backtransform: " << e.what() << "\n";
+    return 2;
+  }
+  if (!options.all && (options.row < 0 || static_cast<size_t>(options.row) + 1 >= records.size())) {
+    std::cerr << "scanbus scanmatch backtransform: --row " << options.row << " is not a scan with a successor: "
+              << options.log << " has scans 0 to " << records.size() - 1 << "\n";
+    return 2;
+  }
+  const ScanMatcher matcher(settings);
+  if (!options.all) {
+    std::vector<Eigen::Vector2d> reference, moved;
+    const PairCheck check = check_pair(matcher, records, static_cast<size_t>(options.row), options.max_median,
+                                       &reference, &moved);
+    if (!options.out.empty()) {
+      char title[96];
+      std::snprintf(title, sizeof(title), "BacktransformLaserScan: scan %zu+1 onto scan %zu", check.row, check.row);
+      write_backtransform_plot(options.out, reference, moved, title, pair_line(check));
+    }
+    std::cout << (options.json ? pair_json(check).dump() : pair_line(check)) << "\n";
+    return check.suspect ? 1 : 0;
+  }
+  const bool progress = !options.json && isatty(STDOUT_FILENO);
+  std::vector<PairCheck> checks;
+  std::vector<double> medians;
+  size_t suspect = 0;
+  for (size_t row = 0; row + 1 < records.size(); ++row) {
+    checks.push_back(check_pair(matcher, records, row, options.max_median));
+    suspect += checks.back().suspect;
+    medians.push_back(checks.back().median);
+    if (progress && (row % 50 == 0 || row + 2 == records.size()))
+      std::printf("\rchecking: pair %zu of %zu", row + 1, records.size() - 1), std::fflush(stdout);
+  }
+  if (progress) std::printf("\n");
+  if (options.json) {
+    nlohmann::json pairs = nlohmann::json::array();
+    for (const auto& check : checks) pairs.push_back(pair_json(check));
+    std::cout << nlohmann::json{{"pairs", pairs},
+                                {"suspect", suspect},
+                                {"max_median_m", options.max_median},
+                                {"median_of_medians_m", percentile(medians, 0.5)}}
+              << "\n";
+  } else {
+    for (const auto& check : checks)
+      if (check.suspect) std::cout << pair_line(check) << "\n";
+    std::printf("%zu pairs, %zu suspect (median residual over %.3f m or a failed match), median residual %.4f m\n",
+                checks.size(), suspect, options.max_median, percentile(medians, 0.5));
+  }
+  return 0;
+}
+
 }  // namespace
 
 void add_scanmatch_command(CLI::App& app, int& exit_code) {
@@ -126,6 +258,19 @@ void add_scanmatch_command(CLI::App& app, int& exit_code) {
   eval->add_option("--max-span", options.max_span, "Also report relations at most this many seconds apart");
   eval->add_flag("--json", options.json, "Print one JSON object");
   on_run(*eval, exit_code, [] { return run_eval(options); });
+
+  static BacktransformOptions back;
+  auto* backtransform = scanmatch->add_subcommand(
+      "backtransform", "BacktransformLaserScan: carry scan N+1 back onto scan N by the match and measure the fit");
+  backtransform->add_option("--log", back.log, "CARMEN log (FLASER or ROBOTLASER1 lines)")->required();
+  auto* row = backtransform->add_option("--row", back.row, "The pair (N, N+1), scans counted from 0");
+  auto* all = backtransform->add_flag("--all", back.all, "Check every consecutive pair; list the suspect ones");
+  row->excludes(all);
+  backtransform->add_option("--out", back.out, "PNG picture of the pair (with --row)")->excludes(all);
+  backtransform->add_option("--max-median", back.max_median, "m: a larger median residual makes a pair suspect");
+  backtransform->add_option("--config", back.config, "Service file with a scan_matcher.matcher section");
+  backtransform->add_flag("--json", back.json, "Print JSON");
+  on_run(*backtransform, exit_code, [] { return run_backtransform(back); });
 }
 
 }  // namespace scanbus::cli

@@ -133,6 +133,25 @@ MatchResult ScanMatcher::align(const std::vector<Eigen::Vector2d>& reference, co
   return align_to(Reference({&keyframe}), scan, guess, guess);
 }
 
+std::vector<double> ScanMatcher::residuals(const std::vector<Eigen::Vector2d>& reference,
+                                           const std::vector<Eigen::Vector2d>& scan, const Pose2& pose) const {
+  const Keyframe keyframe(Pose2{}, reference, settings_);
+  const Reference built({&keyframe});
+  std::vector<double> distances;
+  if (reference.empty()) return distances;
+  const Eigen::Matrix2d rotation = Eigen::Rotation2Dd(pose.theta).toRotationMatrix();
+  for (const auto& point : scan) {
+    const Eigen::Vector2d q = rotation * point + Eigen::Vector2d(pose.x, pose.y);
+    unsigned int nearest = 0;
+    double distance_squared = 0;
+    built.tree.knnSearch(q.data(), 1, &nearest, &distance_squared);
+    const LocalLine& line = built.lines[nearest];
+    if (distance_squared > settings_.max_correspondence * settings_.max_correspondence || !line.valid) continue;
+    distances.push_back(std::abs(line.normal.dot(q - line.centre)));
+  }
+  return distances;
+}
+
 MatchResult ScanMatcher::align_to(const Reference& reference, const std::vector<Eigen::Vector2d>& scan,
                                   const Pose2& guess, const Pose2& prior) const {
   MatchResult result;

@@ -88,6 +88,12 @@ class ScanMatcher {
   MatchResult align(const std::vector<Eigen::Vector2d>& reference, const std::vector<Eigen::Vector2d>& scan,
                     const Pose2& guess) const;
 
+  // BacktransformLaserScan's check, as numbers: |point-to-line distance| of each point of
+  // `scan` placed at `pose` to the reference's local line at its nearest point (points with
+  // no reference point within max_correspondence, or no line there, are left out).
+  std::vector<double> residuals(const std::vector<Eigen::Vector2d>& reference, const std::vector<Eigen::Vector2d>& scan,
+                                const Pose2& pose) const;
+
  private:
   struct Keyframe;
   struct Reference;
