@@ -89,6 +89,8 @@ FlightErrors fly(const LaserWorld& world, const Flight& flight, const LaserModel
     errors.covariance = result.covariance;
   }
   errors.rms = (errors.rms / (flight.scans - 1)).cwiseSqrt();
+  std::printf("increment errors (x m, y m, theta deg): rms %.4f %.4f %.3f, worst %.4f %.4f %.3f\n", errors.rms.x(),
+              errors.rms.y(), errors.rms.z(), errors.worst.x(), errors.worst.y(), errors.worst.z());
   return errors;
 }
 

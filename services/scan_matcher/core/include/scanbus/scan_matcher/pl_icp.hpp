@@ -1,9 +1,9 @@
 // PL-ICP (Censi, "An ICP variant using a point-to-line metric", ICRA 2008): each point of
 // the new scan is matched to the line through its nearest reference point; the
 // point-to-line errors are trimmed and minimised by Gauss-Newton. Unlike Censi's segment
-// between two neighbouring points, the line is fitted to a few neighbours on each side
-// (line_neighbours): the two-point segment's direction drowns in range noise. The
-// reference is a keyframe, renewed after enough motion.
+// between two neighbouring points, the line is fitted to neighbours on each side spanning
+// at least min_line_length: the two-point segment's direction drowns in range noise. The
+// reference is a keyframe (or the latest few), renewed after enough motion.
 #pragma once
 
 #include <Eigen/Core>
