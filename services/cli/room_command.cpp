@@ -3,6 +3,7 @@
 #include "cloud_files.hpp"
 #include "commands.hpp"
 #include "floor_plan.hpp"
+#include "room_measurement_node.hpp"
 #include "room_report.hpp"
 
 namespace scanbus::cli {
@@ -23,7 +24,7 @@ int run_measure(const RoomOptions& options) {
   try {
     if (!options.config.empty()) {
       const Config section = Config::load(options.config).section("room_measurement");
-      settings = room_measurement::room_settings_from_config(section);
+      settings = room_measurement::room_service_settings(section).room;
       section.check_all_read();
     }
   } catch (const ConfigError& e) {

@@ -24,10 +24,10 @@ class RoomMeasurementService : public Service {
         measurement_(context.participant, "rt/room/measurement"),
         walls_(context.participant, "rt/room/walls"),
         scans_(context.participant, "rt/scanner/scan_cloud", [this](const auto& cloud, const auto&) { receive(cloud); }) {
-    const Config config = context.config.section("room_measurement");
-    scans_needed_ = static_cast<size_t>(config.integer("scans", 3, 1, 100));
-    frame_id_ = config.text("frame_id", "scanner");
-    settings_ = room_settings_from_config(config);
+    const RoomServiceSettings settings = room_service_settings(context.config.section("room_measurement"));
+    scans_needed_ = settings.scans;
+    frame_id_ = settings.frame_id;
+    settings_ = settings.room;
   }
 
   int run() override {
@@ -86,6 +86,14 @@ class RoomMeasurementService : public Service {
 };
 
 }  // namespace
+
+RoomServiceSettings room_service_settings(const Config& section) {
+  RoomServiceSettings settings;
+  settings.scans = static_cast<size_t>(section.integer("scans", 3, 1, 100));
+  settings.frame_id = section.text("frame_id", "scanner");
+  settings.room = room_settings_from_config(section);
+  return settings;
+}
 
 std::unique_ptr<Service> make_room_measurement(ServiceContext& context) {
   return std::make_unique<RoomMeasurementService>(context);

@@ -1,5 +1,6 @@
 #pragma once
 
+#include "scanbus/room_measurement/room_measurement.hpp"
 #include "scanbus/service.hpp"
 
 namespace scanbus::room_measurement {
@@ -11,5 +12,14 @@ namespace scanbus::room_measurement {
 //   histogram, voxel_leaf, ransac, min_wall_height, min_wall_coverage, polygon: see
 //   RoomSettings (core/include/scanbus/room_measurement/room_measurement.hpp)
 std::unique_ptr<Service> make_room_measurement(ServiceContext& context);
+
+// The whole section, for the service and for `scanbus room measure --config`, which reads
+// the service's own file (and ignores scans and frame_id).
+struct RoomServiceSettings {
+  size_t scans = 3;
+  std::string frame_id = "scanner";
+  RoomSettings room;
+};
+RoomServiceSettings room_service_settings(const Config& section);
 
 }  // namespace scanbus::room_measurement
