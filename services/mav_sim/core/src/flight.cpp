@@ -1,0 +1,168 @@
+#include "scanbus/mav_sim/flight.hpp"
+
+#include <GeographicLib/LocalCartesian.hpp>
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+namespace scanbus::mav_sim {
+
+namespace {
+
+constexpr double kGravity = 9.81;
+constexpr double kDegree = M_PI / 180;
+
+double wave(double amplitude, double period, double t, double phase = 0) {
+  return amplitude * std::sin(2 * M_PI * t / period + phase);
+}
+
+Eigen::Vector3d scenario_position(const FlightSettings& s, double t) {
+  const double h = s.height;
+  switch (s.scenario) {
+    case 1:  // 10 m forward and back, 20 s a round, gently changing height
+      return {5 - 5 * std::cos(2 * M_PI * t / 20), wave(0.3, 37, t), h + wave(0.4, 23, t) + wave(0.15, 7.1, t)};
+    case 2:  // hovering about one spot
+      return {wave(0.3, 17, t), wave(0.3, 13, t, 1), h + wave(0.3, 11, t)};
+    case 3:  // steered by hand around the corner at (6, 2)
+      return {4.5 + wave(1.5, 31, t), 0.8 + wave(1.2, 23, t, 0.5), h + wave(0.3, 19, t)};
+    default:  // 8 m forward and back over the boxes at x = 4
+      return {4 - 4 * std::cos(2 * M_PI * t / 24), wave(0.1, 29, t), h + wave(0.25, 17, t)};
+  }
+}
+
+// Roll, pitch and yaw added to what the acceleration needs: wind gusts (II), a hand's
+// unsteadiness (III).
+Eigen::Vector3d scenario_disturbance(const FlightSettings& s, double t) {
+  switch (s.scenario) {
+    case 1: return {0, 0, wave(0.05, 50, t)};
+    case 2: return {(wave(12, 2.0, t) + wave(5, 0.77, t, 0.7)) * kDegree, wave(3, 2.5, t) * kDegree, wave(0.3, 40, t)};
+    case 3: return {wave(3, 3.3, t) * kDegree, wave(3, 4.1, t, 1) * kDegree, wave(0.4, 45, t)};
+    default: return {0, 0, wave(0.03, 50, t)};
+  }
+}
+
+Eigen::Quaterniond from_rpy(double roll, double pitch, double yaw) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                            Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                            Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()));
+}
+
+void check(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument(what);
+}
+
+void validate(const FlightSettings& s) {
+  check(s.scenario >= 1 && s.scenario <= 4, "scenario must be 1 to 4 (I to IV)");
+  check(s.duration > 0 && s.duration <= 3600, "duration must be in (0, 3600] s");
+  check(s.height >= 0.5 && s.height <= 25, "height must be 0.5 to 25 m");
+  check(s.box_size.minCoeff() > 0 && s.box_size.maxCoeff() < 5, "box size must be positive and under 5 m");
+  check(s.laser.rate > 0 && s.noise.imu_rate > 0 && s.noise.gps_rate > 0 && s.noise.baro_rate > 0,
+        "sensor rates must be positive");
+  check(s.laser.field_of_view > 0 && s.laser.field_of_view <= 2 * M_PI, "laser field of view must be in (0, 360] degrees");
+  check(s.laser.step > 1e-4 && s.laser.field_of_view / s.laser.step < 20000, "laser step too small");
+}
+
+}  // namespace
+
+BodyState scenario_state(const FlightSettings& s, double t) {
+  BodyState state;
+  state.position = scenario_position(s, t);
+  // A multirotor tilts its thrust to accelerate: pitch forward, roll sideways.
+  constexpr double dt = 0.01;
+  const Eigen::Vector3d acceleration =
+      (scenario_position(s, t + dt) - 2 * state.position + scenario_position(s, t - dt)) / (dt * dt);
+  const Eigen::Vector3d extra = scenario_disturbance(s, t);
+  const Eigen::Vector2d heading_frame = Eigen::Rotation2Dd(-extra.z()) * acceleration.head<2>();
+  const double pitch = std::atan2(heading_frame.x(), kGravity + acceleration.z());
+  const double roll = -std::atan2(heading_frame.y(), kGravity + acceleration.z());
+  state.orientation = from_rpy(roll + extra.x(), pitch + extra.y(), extra.z());
+  return state;
+}
+
+GroundWorld scenario_world(const FlightSettings& s) {
+  if (s.scenario == 3)  // two 1 m blocks meeting in a concave corner at (6, 2)
+    return GroundWorld({{{4, 3}, 0, {8, 2, 1.0}}, {{7, -1}, 0, {2, 6, 1.0}}});
+  if (s.scenario == 4) {  // two identical boxes side by side across the flight path
+    const double gap = 0.5;
+    const double offset = (s.box_size.y() + gap) / 2;
+    return GroundWorld({{{4, -offset}, 0, s.box_size}, {{4, offset}, 0, s.box_size}});
+  }
+  return GroundWorld();
+}
+
+Eigen::Isometry3d laser_in_body(const LaserSettings& laser) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translate(laser.position);
+  pose.rotate(from_rpy(laser.rpy.x(), laser.rpy.y(), laser.rpy.z()));
+  return pose;
+}
+
+sensor_replay::MavLog simulate_flight(const FlightSettings& s) {
+  validate(s);
+  std::mt19937 random(s.seed);
+  std::normal_distribution<double> gauss(0, 1);
+  const GroundWorld world = scenario_world(s);
+  const Eigen::Isometry3d mount = laser_in_body(s.laser);
+  const GeographicLib::LocalCartesian local(s.origin.x(), s.origin.y(), s.origin.z());
+  sensor_replay::MavLog log;
+  log.meta["scenario"] = {static_cast<double>(s.scenario)};
+  log.meta["origin"] = {s.origin.x(), s.origin.y(), s.origin.z()};
+  log.meta["laser_mount"] = {s.laser.position.x(), s.laser.position.y(), s.laser.position.z(),
+                             s.laser.rpy.x(), s.laser.rpy.y(), s.laser.rpy.z()};
+  if (s.scenario == 4) log.meta["boxes"] = {s.box_size.x(), s.box_size.y(), s.box_size.z()};
+
+  const int rays = static_cast<int>(std::floor(s.laser.field_of_view / s.laser.step + 1e-9)) + 1;
+  for (double t = 0; t < s.duration; t += 1 / s.laser.rate) {
+    const BodyState body = scenario_state(s, t);
+    const Eigen::Isometry3d laser = Eigen::Translation3d(body.position) * body.orientation * mount;
+    sensor_replay::LaserRecord scan;
+    scan.stamp = s.start_stamp + t;
+    scan.angle_min = -(rays - 1) * s.laser.step / 2;
+    scan.angle_increment = s.laser.step;
+    scan.range_min = 0.05;
+    scan.range_max = s.laser.range_max;
+    for (int i = 0; i < rays; ++i) {
+      const double angle = scan.angle_min + i * s.laser.step;
+      const Eigen::Vector3d direction = laser.linear() * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0);
+      const double range = world.cast(laser.translation(), direction) + s.laser.noise * gauss(random);
+      scan.ranges.push_back(range <= s.laser.range_max ? static_cast<float>(range) : INFINITY);
+    }
+    log.lasers.push_back(std::move(scan));
+  }
+  for (double t = 0; t < s.duration; t += 1 / s.noise.imu_rate) {
+    const Eigen::Quaterniond error = from_rpy(s.noise.imu_roll_pitch * gauss(random),
+                                              s.noise.imu_roll_pitch * gauss(random), s.noise.imu_yaw * gauss(random));
+    log.imus.push_back({s.start_stamp + t, (scenario_state(s, t).orientation * error).normalized()});
+  }
+  Eigen::Vector3d wander = Eigen::Vector3d::Zero();
+  const Eigen::Vector3d wander_sigma(s.noise.gps_wander_horizontal, s.noise.gps_wander_horizontal,
+                                     s.noise.gps_wander_vertical);
+  const double decay = std::exp(-1 / (s.noise.gps_rate * s.noise.gps_wander_time));
+  for (double t = 0; t < s.duration; t += 1 / s.noise.gps_rate) {
+    for (int axis = 0; axis < 3; ++axis)
+      wander[axis] = decay * wander[axis] + wander_sigma[axis] * std::sqrt(1 - decay * decay) * gauss(random);
+    const Eigen::Vector3d white(s.noise.gps_horizontal * gauss(random), s.noise.gps_horizontal * gauss(random),
+                                s.noise.gps_vertical * gauss(random));
+    const Eigen::Vector3d measured = scenario_state(s, t).position + wander + white;
+    sensor_replay::GpsRecord fix;
+    fix.stamp = s.start_stamp + t;
+    local.Reverse(measured.x(), measured.y(), measured.z(), fix.latitude, fix.longitude, fix.altitude);
+    fix.horizontal_sigma = std::hypot(s.noise.gps_horizontal, s.noise.gps_wander_horizontal);
+    fix.vertical_sigma = std::hypot(s.noise.gps_vertical, s.noise.gps_wander_vertical);
+    log.fixes.push_back(fix);
+  }
+  double drift = 0;
+  for (double t = 0; t < s.duration; t += 1 / s.noise.baro_rate) {
+    drift += s.noise.baro_drift * std::sqrt(1 / s.noise.baro_rate) * gauss(random);
+    const double altitude = s.origin.z() + scenario_state(s, t).position.z() + drift + s.noise.baro_noise * gauss(random);
+    log.baros.push_back({s.start_stamp + t, sensor_replay::pressure_at_altitude(altitude)});
+  }
+  for (double t = 0; t < s.duration; t += 0.01) {
+    const BodyState body = scenario_state(s, t);
+    log.truths.push_back({s.start_stamp + t, body.position, body.orientation});
+  }
+  return log;
+}
+
+}  // namespace scanbus::mav_sim

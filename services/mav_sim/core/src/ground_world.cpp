@@ -1,0 +1,47 @@
+#include "scanbus/mav_sim/ground_world.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace scanbus::mav_sim {
+
+namespace {
+
+constexpr double kNone = std::numeric_limits<double>::infinity();
+
+// Slab test in the box's own frame (origin at its footprint's centre on the ground).
+double cast_box(const Box& box, const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) {
+  const Eigen::Matrix3d to_box = Eigen::AngleAxisd(-box.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Vector3d o = to_box * (origin - Eigen::Vector3d(box.centre.x(), box.centre.y(), 0));
+  const Eigen::Vector3d d = to_box * direction;
+  const Eigen::Vector3d low(-box.size.x() / 2, -box.size.y() / 2, 0), high(box.size.x() / 2, box.size.y() / 2, box.size.z());
+  double near = 0, far = kNone;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (std::abs(d[axis]) < 1e-12) {
+      if (o[axis] < low[axis] || o[axis] > high[axis]) return kNone;
+      continue;
+    }
+    double t1 = (low[axis] - o[axis]) / d[axis], t2 = (high[axis] - o[axis]) / d[axis];
+    if (t1 > t2) std::swap(t1, t2);
+    near = std::max(near, t1);
+    far = std::min(far, t2);
+    if (near > far) return kNone;
+  }
+  return near > 0 ? near : kNone;
+}
+
+}  // namespace
+
+double GroundWorld::cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const {
+  double nearest = direction.z() < -1e-12 ? -origin.z() / direction.z() : kNone;
+  if (nearest < 0) nearest = kNone;
+  for (const Box& box : boxes_) nearest = std::min(nearest, cast_box(box, origin, direction));
+  return nearest;
+}
+
+double GroundWorld::height_at(const Eigen::Vector2d& xy) const {
+  const double range = cast(Eigen::Vector3d(xy.x(), xy.y(), 1000), -Eigen::Vector3d::UnitZ());
+  return std::isinf(range) ? 0 : 1000 - range;
+}
+
+}  // namespace scanbus::mav_sim
