@@ -2,6 +2,8 @@
 
 #include <GeographicLib/LocalCartesian.hpp>
 
+#include "scanbus/atmosphere.hpp"
+
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -59,6 +61,7 @@ void validate(const FlightSettings& s) {
   check(s.box_size.minCoeff() > 0 && s.box_size.maxCoeff() < 5, "box size must be positive and under 5 m");
   check(s.laser.rate > 0 && s.noise.imu_rate > 0 && s.noise.gps_rate > 0 && s.noise.baro_rate > 0,
         "sensor rates must be positive");
+  check(s.noise.gps_velocity_time > 0 && s.noise.gps_wander_time > 0, "GPS correlation times must be positive");
   check(s.laser.field_of_view > 0 && s.laser.field_of_view <= 2 * M_PI, "laser field of view must be in (0, 360] degrees");
   check(s.laser.step > 1e-4 && s.laser.field_of_view / s.laser.step < 20000, "laser step too small");
 }
@@ -135,28 +138,32 @@ sensor_replay::MavLog simulate_flight(const FlightSettings& s) {
                                               s.noise.imu_roll_pitch * gauss(random), s.noise.imu_yaw * gauss(random));
     log.imus.push_back({s.start_stamp + t, (scenario_state(s, t).orientation * error).normalized()});
   }
-  Eigen::Vector3d wander = Eigen::Vector3d::Zero();
-  const Eigen::Vector3d wander_sigma(s.noise.gps_wander_horizontal, s.noise.gps_wander_horizontal,
-                                     s.noise.gps_wander_vertical);
-  const double decay = std::exp(-1 / (s.noise.gps_rate * s.noise.gps_wander_time));
-  for (double t = 0; t < s.duration; t += 1 / s.noise.gps_rate) {
-    for (int axis = 0; axis < 3; ++axis)
-      wander[axis] = decay * wander[axis] + wander_sigma[axis] * std::sqrt(1 - decay * decay) * gauss(random);
+  Eigen::Vector3d wander = Eigen::Vector3d::Zero(), velocity_error = Eigen::Vector3d::Zero();
+  const Eigen::Vector3d velocity_sigma(s.noise.gps_velocity_horizontal, s.noise.gps_velocity_horizontal,
+                                       s.noise.gps_velocity_vertical);
+  const double dt = 1 / s.noise.gps_rate, decay = std::exp(-dt / s.noise.gps_velocity_time);
+  // Stationary standard deviation of the leaky integral of the velocity error.
+  const double wander_scale = std::sqrt(s.noise.gps_velocity_time * s.noise.gps_wander_time);
+  for (double t = 0; t < s.duration; t += dt) {
+    for (int axis = 0; axis < 3; ++axis) {
+      velocity_error[axis] = decay * velocity_error[axis] + velocity_sigma[axis] * std::sqrt(1 - decay * decay) * gauss(random);
+      wander[axis] += (velocity_error[axis] - wander[axis] / s.noise.gps_wander_time) * dt;
+    }
     const Eigen::Vector3d white(s.noise.gps_horizontal * gauss(random), s.noise.gps_horizontal * gauss(random),
                                 s.noise.gps_vertical * gauss(random));
     const Eigen::Vector3d measured = scenario_state(s, t).position + wander + white;
     sensor_replay::GpsRecord fix;
     fix.stamp = s.start_stamp + t;
     local.Reverse(measured.x(), measured.y(), measured.z(), fix.latitude, fix.longitude, fix.altitude);
-    fix.horizontal_sigma = std::hypot(s.noise.gps_horizontal, s.noise.gps_wander_horizontal);
-    fix.vertical_sigma = std::hypot(s.noise.gps_vertical, s.noise.gps_wander_vertical);
+    fix.horizontal_sigma = std::hypot(s.noise.gps_horizontal, s.noise.gps_velocity_horizontal * wander_scale);
+    fix.vertical_sigma = std::hypot(s.noise.gps_vertical, s.noise.gps_velocity_vertical * wander_scale);
     log.fixes.push_back(fix);
   }
   double drift = 0;
   for (double t = 0; t < s.duration; t += 1 / s.noise.baro_rate) {
     drift += s.noise.baro_drift * std::sqrt(1 / s.noise.baro_rate) * gauss(random);
     const double altitude = s.origin.z() + scenario_state(s, t).position.z() + drift + s.noise.baro_noise * gauss(random);
-    log.baros.push_back({s.start_stamp + t, sensor_replay::pressure_at_altitude(altitude)});
+    log.baros.push_back({s.start_stamp + t, pressure_at_altitude(altitude)});
   }
   for (double t = 0; t < s.duration; t += 0.01) {
     const BodyState body = scenario_state(s, t);

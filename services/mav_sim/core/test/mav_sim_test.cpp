@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 
+#include "scanbus/atmosphere.hpp"
 #include "scanbus/mav_sim/flight.hpp"
 
 using namespace scanbus;
@@ -55,7 +56,7 @@ TEST(Flight, SensorsAtTheirRatesAndTheLaserSeesTheGround) {
   EXPECT_EQ(scan.ranges.size(), 361u);  // 90 degrees in 0.25 degree steps
   // The middle ray points straight down from 10 cm under base_link: the height less 0.1 m.
   EXPECT_NEAR(scan.ranges[180], log.truths.front().position.z() - 0.1, 0.08);
-  EXPECT_NEAR(sensor_replay::altitude_at_pressure(log.baros.front().pressure), 34.0 + settings.height, 1.5);
+  EXPECT_NEAR(altitude_at_pressure(log.baros.front().pressure), 34.0 + settings.height, 1.5);
   EXPECT_NEAR(log.fixes.front().latitude, settings.origin.x(), 1e-4);
 }
 

@@ -158,10 +158,4 @@ MavLog read_mav_log(const std::string& path) {
   return log;
 }
 
-double pressure_at_altitude(double altitude) { return 101325.0 * std::pow(1 - 2.25577e-5 * altitude, 5.25588); }
-
-double altitude_at_pressure(double pressure) {
-  return (1 - std::pow(pressure / 101325.0, 1 / 5.25588)) / 2.25577e-5;
-}
-
 }  // namespace scanbus::sensor_replay

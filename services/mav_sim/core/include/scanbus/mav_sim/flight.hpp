@@ -31,10 +31,14 @@ struct SensorNoise {
   double imu_rate = 10;                  // Hz (the paper's pose rate)
   double imu_roll_pitch = 0.3 * M_PI / 180;  // rad, white
   double imu_yaw = 1.0 * M_PI / 180;         // rad, white
+  // GPS as the MAV's navigation solution delivers it (GNSS aided by the IMU): metres of
+  // slow wander from a velocity error (first-order Gauss-Markov, integrated with a leak)
+  // and centimetres of jitter from fix to fix.
   double gps_rate = 10;                  // Hz
-  double gps_horizontal = 0.3, gps_vertical = 0.6;         // m, white
-  double gps_wander_horizontal = 1.0, gps_wander_vertical = 2.0;  // m, first-order Gauss-Markov
-  double gps_wander_time = 30;           // s, its correlation time
+  double gps_horizontal = 0.02, gps_vertical = 0.05;                 // m, white
+  double gps_velocity_horizontal = 0.02, gps_velocity_vertical = 0.05;  // m/s, the wander's velocity error
+  double gps_velocity_time = 20;         // s, its correlation time
+  double gps_wander_time = 300;          // s, the leak that bounds the wander
   double baro_rate = 10;                 // Hz
   double baro_noise = 0.3;               // m equivalent, white (prop wash, turbulence)
   double baro_drift = 0.02;              // m/sqrt(s), random walk (weather, temperature)

@@ -64,8 +64,4 @@ void write_mav_log(const std::string& path, const MavLog& log);
 // Throws MavLogError naming the file and line of anything malformed.
 MavLog read_mav_log(const std::string& path);
 
-// Pressure (Pa) at an altitude (m) in the ICAO standard atmosphere, and back.
-double pressure_at_altitude(double altitude);
-double altitude_at_pressure(double pressure);
-
 }  // namespace scanbus::sensor_replay

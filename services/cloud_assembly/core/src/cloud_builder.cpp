@@ -1,0 +1,98 @@
+#include "scanbus/cloud_assembly/cloud_builder.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace scanbus::cloud_assembly {
+
+std::vector<Eigen::Vector3d> scan_points(const LaserScanData& scan, const ScanGating& gating) {
+  std::vector<Eigen::Vector3d> points;
+  const size_t n = scan.ranges.size();
+  const double middle = scan.angle_min + scan.angle_increment * (static_cast<double>(n) - 1) / 2;
+  const double range_max = std::min(scan.range_max, gating.range_max);
+  for (size_t i = 0; i < n; ++i) {
+    const double range = scan.ranges[i];
+    if (!(range > 0 && range >= scan.range_min && range <= range_max)) continue;
+    const double angle = scan.angle_min + scan.angle_increment * static_cast<double>(i);
+    if (std::abs(angle - middle) > gating.opening / 2 + 1e-9) continue;
+    points.emplace_back(range * std::cos(angle), range * std::sin(angle), 0.0);
+  }
+  return points;
+}
+
+ContinuousCloud::ContinuousCloud(double voxel_size, size_t max_voxels)
+    : voxel_size_(voxel_size), max_voxels_(max_voxels) {
+  if (!(voxel_size > 0)) throw std::invalid_argument("voxel size must be positive");
+}
+
+void ContinuousCloud::add(const std::vector<Eigen::Vector3d>& points) {
+  // 21 bits a coordinate: +-1048576 voxels, 21 km at 2 cm; further points are dropped.
+  constexpr int64_t kHalf = 1 << 20;
+  for (const auto& p : points) {
+    const Eigen::Vector3d cell = (p / voxel_size_).array().floor();
+    if (!p.allFinite() || (cell.array().abs() >= kHalf).any()) {
+      ++dropped_;
+      continue;
+    }
+    const uint64_t key = (static_cast<uint64_t>(static_cast<int64_t>(cell.x()) + kHalf) << 42) |
+                         (static_cast<uint64_t>(static_cast<int64_t>(cell.y()) + kHalf) << 21) |
+                         static_cast<uint64_t>(static_cast<int64_t>(cell.z()) + kHalf);
+    auto found = voxels_.find(key);
+    if (found == voxels_.end()) {
+      if (voxels_.size() >= max_voxels_) {
+        ++dropped_;
+        continue;
+      }
+      found = voxels_.emplace(key, Voxel{}).first;
+    }
+    found->second.sum += p;
+    ++found->second.count;
+  }
+}
+
+std::vector<Eigen::Vector3f> ContinuousCloud::points() const {
+  std::vector<Eigen::Vector3f> result;
+  result.reserve(voxels_.size());
+  for (const auto& [key, voxel] : voxels_) result.push_back((voxel.sum / voxel.count).cast<float>());
+  return result;
+}
+
+ScanWindow::ScanWindow(double max_age, size_t max_points) : max_age_(max_age), max_points_(max_points) {}
+
+void ScanWindow::add(double stamp, std::vector<Eigen::Vector3f> points) {
+  const auto later = std::upper_bound(scans_.begin(), scans_.end(), stamp,
+                                      [](double t, const auto& scan) { return t < scan.first; });
+  points_ += points.size();
+  scans_.insert(later, {stamp, std::move(points)});
+  while (!scans_.empty() && (scans_.back().first - scans_.front().first > max_age_ || points_ > max_points_)) {
+    points_ -= scans_.front().second.size();
+    scans_.pop_front();
+  }
+}
+
+std::vector<Eigen::Vector3f> ScanWindow::assemble(double begin, double end) const {
+  std::vector<Eigen::Vector3f> result;
+  for (const auto& [stamp, points] : scans_)
+    if (stamp >= begin && stamp <= end) result.insert(result.end(), points.begin(), points.end());
+  return result;
+}
+
+uint32_t height_colour(double z, double low, double high) {
+  const double t = high > low ? std::clamp((z - low) / (high - low), 0.0, 1.0) : 0.5;
+  // Hue from 240 degrees (blue) down to 0 (red) at full saturation and value.
+  const double hue = (1 - t) * 4;  // in sixths of the circle
+  const double fraction = hue - std::floor(hue);
+  double r = 0, g = 0, b = 0;
+  switch (static_cast<int>(std::floor(hue))) {
+    case 0: r = 1, g = fraction; break;
+    case 1: r = 1 - fraction, g = 1; break;
+    case 2: g = 1, b = fraction; break;
+    case 3: g = 1 - fraction, b = 1; break;
+    default: b = 1;
+  }
+  const auto byte = [](double v) { return static_cast<uint32_t>(std::lround(v * 255)); };
+  return byte(r) << 16 | byte(g) << 8 | byte(b);
+}
+
+}  // namespace scanbus::cloud_assembly

@@ -1,0 +1,230 @@
+#include "scanbus/ground_evaluation/box_evaluation.hpp"
+
+#include <ceres/ceres.h>
+#include <pcl/ModelCoefficients.h>
+#include <pcl/point_types.h>
+#include <pcl/search/kdtree.h>
+#include <pcl/segmentation/extract_clusters.h>
+#include <pcl/segmentation/sac_segmentation.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace scanbus::ground_evaluation {
+
+namespace {
+
+// Negative log-likelihood of positions spread evenly over [a, b] and blurred by Gaussian
+// noise of sigma = exp(log_sigma): each point's density is
+// (Phi((x - a) / sigma) - Phi((x - b) / sigma)) / (b - a).
+struct BlurredSpread {
+  explicit BlurredSpread(std::vector<double> along) : along(std::move(along)) {}
+  template <typename T>
+  bool operator()(const T* parameters, T* cost) const {
+    const T a = parameters[0], b = parameters[1], sigma = exp(parameters[2]);
+    if (!(b > a)) return false;
+    const T scale = T(1) / (sigma * T(std::sqrt(2.0)));
+    cost[0] = T(0);
+    for (double x : along) {
+      const T mass = T(0.5) * (erf((T(x) - a) * scale) - erf((T(x) - b) * scale));
+      cost[0] -= log(mass + T(1e-12));
+    }
+    cost[0] += T(static_cast<double>(along.size())) * log(b - a);
+    return true;
+  }
+  std::vector<double> along;
+};
+
+// The sides of the points along `axis`, as (low, high). Where the points stop is blurred
+// by noise: the maximum-likelihood spread under that blur finds the sides to a fraction of
+// the noise, where extremes would stretch with it and quantiles wander with the sample.
+struct Extent {
+  double low = 0, high = 0;
+  double cost = 0;  // the negative log-likelihood at the fit
+};
+Extent extent(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& axis, double noise_guess) {
+  std::vector<double> along(points.size());
+  for (size_t i = 0; i < points.size(); ++i) along[i] = points[i].dot(axis);
+  const auto [low, high] = std::minmax_element(along.begin(), along.end());
+  double parameters[3] = {*low, *high, std::log(noise_guess)};
+  if (!(*high > *low)) return {*low, *high, INFINITY};
+  ceres::GradientProblem problem(
+      new ceres::AutoDiffFirstOrderFunction<BlurredSpread, 3>(new BlurredSpread(std::move(along))));
+  ceres::GradientProblemSolver::Options options;
+  options.max_num_iterations = 100;
+  options.logging_type = ceres::SILENT;
+  options.function_tolerance = 1e-12;  // the cost is a sum over many points: tiny relative changes still move the sides
+  options.gradient_tolerance = 1e-10;
+  options.parameter_tolerance = 1e-12;
+  ceres::GradientProblemSolver::Summary summary;
+  ceres::Solve(options, problem, parameters, &summary);
+  return {parameters[0], parameters[1], summary.final_cost};
+}
+
+// Area of the bounding rectangle at `yaw`. Its orientation comes from the outermost points
+// (a quantile would cut a tilted rectangle's corners and favour wrong angles); its size
+// then from the quantiles.
+double bounding_area(const std::vector<Eigen::Vector2d>& points, double yaw) {
+  const Eigen::Vector2d u(std::cos(yaw), std::sin(yaw)), v(-std::sin(yaw), std::cos(yaw));
+  double low_u = INFINITY, high_u = -INFINITY, low_v = INFINITY, high_v = -INFINITY;
+  for (const auto& p : points) {
+    low_u = std::min(low_u, p.dot(u)), high_u = std::max(high_u, p.dot(u));
+    low_v = std::min(low_v, p.dot(v)), high_v = std::max(high_v, p.dot(v));
+  }
+  return (high_u - low_u) * (high_v - low_v);
+}
+
+// The ground: the plane with most inliers among near-horizontal ones (z up), RANSAC on the
+// centred cloud (RANSAC is unstable far from the origin).
+bool fit_ground(const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud, double threshold, Eigen::Vector4d& plane) {
+  pcl::SACSegmentation<pcl::PointXYZ> segmentation;
+  segmentation.setModelType(pcl::SACMODEL_PERPENDICULAR_PLANE);
+  segmentation.setMethodType(pcl::SAC_RANSAC);
+  segmentation.setAxis(Eigen::Vector3f::UnitZ());
+  segmentation.setEpsAngle(15 * M_PI / 180);
+  segmentation.setDistanceThreshold(threshold);
+  segmentation.setMaxIterations(500);
+  segmentation.setInputCloud(cloud);
+  pcl::PointIndices inliers;
+  pcl::ModelCoefficients coefficients;
+  segmentation.segment(inliers, coefficients);
+  if (inliers.indices.empty() || coefficients.values.size() != 4) return false;
+  plane = Eigen::Vector4d(coefficients.values[0], coefficients.values[1], coefficients.values[2], coefficients.values[3]);
+  plane /= plane.head<3>().norm();
+  if (plane.z() < 0) plane = -plane;  // height above it is positive
+  return true;
+}
+
+}  // namespace
+
+Footprint fit_footprint(const std::vector<Eigen::Vector2d>& points, double noise) {
+  Footprint footprint;
+  if (points.size() < 3) return footprint;
+  // Coarse search over a quarter turn (a rectangle repeats), then a fine one around the best.
+  double best = 0, best_area = INFINITY;
+  for (double step : {0.5, 0.02}) {
+    const double centre = best, span = step == 0.5 ? 45.0 : 0.5;
+    for (double degrees = -span; degrees < span; degrees += step) {
+      const double yaw = (centre + degrees) * M_PI / 180;
+      const double area = bounding_area(points, yaw);
+      if (area < best_area) best_area = area, best = centre + degrees;
+    }
+  }
+  // The outermost points set the orientation to within their noise; the sides fit best
+  // (sharpest) at the true one: refine within 2 degrees by the fits' likelihood.
+  const auto fit_at = [&](double degrees, Extent& a, Extent& b) {
+    const double yaw = degrees * M_PI / 180;
+    a = extent(points, {std::cos(yaw), std::sin(yaw)}, noise);
+    b = extent(points, {-std::sin(yaw), std::cos(yaw)}, noise);
+    return a.cost + b.cost;
+  };
+  Extent a, b, best_a, best_b;
+  double best_cost = INFINITY, refined = best;
+  for (double degrees = best - 2; degrees <= best + 2 + 1e-9; degrees += 0.1) {
+    const double cost = fit_at(degrees, a, b);
+    if (cost < best_cost) best_cost = cost, refined = degrees, best_a = a, best_b = b;
+  }
+  a = best_a, b = best_b;
+  double yaw = refined * M_PI / 180;
+  Eigen::Vector2d u(std::cos(yaw), std::sin(yaw)), v(-std::sin(yaw), std::cos(yaw));
+  if (a.high - a.low < b.high - b.low) {  // the length axis is the longer side
+    std::swap(a, b);
+    std::swap(u, v);
+    yaw += M_PI / 2;
+  }
+  footprint.yaw = std::remainder(yaw, M_PI);
+  footprint.length = a.high - a.low;
+  footprint.width = b.high - b.low;
+  footprint.centre = u * (a.low + a.high) / 2 + v * (b.low + b.high) / 2;
+  return footprint;
+}
+
+BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double truth_width, double truth_length,
+                             const BoxSearchSettings& settings) {
+  BoxEvaluation result;
+  if (!(truth_width > 0 && truth_length > 0)) {
+    result.message = "the true width and length must be positive";
+    return result;
+  }
+  result.ratio_actual = std::min(truth_width, truth_length) / std::max(truth_width, truth_length);
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  size_t finite = 0;
+  for (const auto& p : cloud)
+    if (p.allFinite()) centre += p.cast<double>(), ++finite;
+  if (finite < 100) {
+    result.message = "the cloud has " + std::to_string(finite) + " points, too few to find a ground";
+    return result;
+  }
+  centre /= static_cast<double>(finite);
+  pcl::PointCloud<pcl::PointXYZ>::Ptr centred(new pcl::PointCloud<pcl::PointXYZ>);
+  for (const auto& p : cloud)
+    if (p.allFinite()) centred->push_back(pcl::PointXYZ(p.x() - centre.x(), p.y() - centre.y(), p.z() - centre.z()));
+  Eigen::Vector4d plane;
+  if (!fit_ground(centred, settings.ground_threshold, plane)) {
+    result.message = "no ground plane found";
+    return result;
+  }
+  pcl::PointCloud<pcl::PointXYZ>::Ptr above(new pcl::PointCloud<pcl::PointXYZ>);
+  std::vector<double> heights;
+  for (const auto& p : *centred) {
+    const double height = plane.dot(Eigen::Vector4d(p.x, p.y, p.z, 1));
+    if (height > settings.min_height) {
+      above->push_back(p);
+      heights.push_back(height);
+    } else if (std::abs(height) <= settings.ground_threshold) {
+      ++result.ground_points;
+    }
+  }
+  std::vector<pcl::PointIndices> clusters;
+  if (!above->empty()) {
+    pcl::search::KdTree<pcl::PointXYZ>::Ptr tree(new pcl::search::KdTree<pcl::PointXYZ>);
+    pcl::EuclideanClusterExtraction<pcl::PointXYZ> extraction;
+    extraction.setClusterTolerance(settings.cluster_tolerance);
+    extraction.setMinClusterSize(static_cast<int>(settings.min_cluster_points));
+    extraction.setMaxClusterSize(std::numeric_limits<int>::max());
+    extraction.setSearchMethod(tree);
+    extraction.setInputCloud(above);
+    extraction.extract(clusters);  // largest first
+  }
+  if (clusters.size() < settings.boxes) {
+    result.message = "found " + std::to_string(clusters.size()) + " objects above the ground, expected " +
+                     std::to_string(settings.boxes) + " boxes";
+    return result;
+  }
+  // The plane's own axes, so footprints are measured in the ground.
+  const Eigen::Vector3d normal = plane.head<3>();
+  const Eigen::Vector3d e1 = normal.unitOrthogonal(), e2 = normal.cross(e1);
+  double total = 0;
+  for (size_t c = 0; c < settings.boxes; ++c) {
+    double top = 0;
+    for (int index : clusters[c].indices) top = std::max(top, heights[static_cast<size_t>(index)]);
+    std::vector<Eigen::Vector2d> footprint_points;
+    for (int index : clusters[c].indices) {
+      if (heights[static_cast<size_t>(index)] < settings.top_fraction * top) continue;
+      const auto& p = (*above)[static_cast<size_t>(index)];
+      const Eigen::Vector3d q(p.x, p.y, p.z);
+      footprint_points.emplace_back(q.dot(e1), q.dot(e2));
+    }
+    const Footprint footprint = fit_footprint(footprint_points, settings.noise);
+    BoxMeasurement box;
+    const Eigen::Vector3d middle = footprint.centre.x() * e1 + footprint.centre.y() * e2;
+    box.centre = (middle + centre).head<2>();  // middle lies in the plane's directions
+    const Eigen::Vector3d length_axis = std::cos(footprint.yaw) * e1 + std::sin(footprint.yaw) * e2;
+    box.yaw = std::remainder(std::atan2(length_axis.y(), length_axis.x()), M_PI);
+    box.length = footprint.length;
+    box.width = footprint.width;
+    box.height = top;
+    box.points = clusters[c].indices.size();
+    const double ratio = box.length > 0 ? box.width / box.length : 0;
+    box.error_percent = std::abs(ratio - result.ratio_actual) / result.ratio_actual * 100;
+    box.performance_percent = 100 - box.error_percent;
+    total += box.performance_percent;
+    result.boxes.push_back(box);
+  }
+  result.mean_performance_percent = total / static_cast<double>(settings.boxes);
+  result.ok = true;
+  return result;
+}
+
+}  // namespace scanbus::ground_evaluation

@@ -1,0 +1,99 @@
+// The MAV's height by least squares over a sliding window (Ceres), after section 3.6 of
+// the MAV paper: the paper starts from the barometer and adds the scan matcher's height
+// changes; here every barometer sample (with a slowly wandering bias), the GPS altitude
+// (weakly) and every scan-matcher change enter one problem, the changes under a robust
+// loss so a failed match is outvoted instead of integrated. States leaving the window are
+// marginalised (Schur complement) into a prior on those that stay, so nothing the window
+// forgot is either lost or counted twice.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <deque>
+#include <map>
+#include <memory>
+#include <optional>
+#include <vector>
+#include <cstdint>
+
+namespace scanbus::pose_estimation {
+
+struct FusionSettings {
+  double window = 3.0;              // s of nodes kept in the problem
+  double baro_sigma = 0.3;          // m, white noise of one barometer altitude
+  double bias_random_walk = 0.02;   // m/sqrt(s): how fast the barometer's bias wanders
+  double bias_spacing = 1.0;        // s between bias states (linear in between)
+  double initial_bias_sigma = 0.05; // m: the barometer is referenced on the ground at the start
+  double change_sigma = 0.01;       // m, one scan-matcher height change
+  double change_loss = 0.005;       // m: Cauchy scale; far larger disagreements count little
+  double change_gate = 0.05;        // m: a change this far from the previous accepted one (a
+                                    // velocity jump of 1.5 m/s between scans at 30 Hz) is a
+                                    // failed match, left out before it can pull the window into
+                                    // a wrong minimum of the robust loss
+  double gate_memory = 0.5;         // s: after this long without an accepted change, any is accepted
+  bool use_gps_altitude = true;
+  double gps_sigma_scale = 2.0;     // the fix's vertical sigma times this (its error is correlated)
+  int solve_every = 3;              // nodes between solves (the newest node is propagated in between)
+};
+
+class HeightFusion {
+ public:
+  explicit HeightFusion(FusionSettings settings = {});
+  ~HeightFusion();
+  HeightFusion(const HeightFusion&) = delete;
+  HeightFusion& operator=(const HeightFusion&) = delete;
+
+  // Altitudes above the map origin (m). Samples wait until nodes on both sides exist.
+  void add_barometer(double stamp, double altitude);
+  void add_gps_altitude(double stamp, double altitude, double sigma);
+
+  // A node at `stamp` (after the previous one) with the scan matcher's height change since
+  // the previous node, or none (failed match, no scan matcher). Returns the height now
+  // estimated for this node. The first node starts at the first barometer altitude.
+  double add_node(double stamp, std::optional<double> change);
+
+  double height() const;                        // of the newest node
+  double bias() const;                          // the barometer's, at the newest node
+  double height_sigma() const { return height_sigma_; }  // m, of the newest node at the last solve
+  size_t nodes_in_window() const;
+  uint64_t changes_rejected() const { return changes_rejected_; }
+
+ private:
+  // Every residual here is linear in the states: (sum coefficient * state - value) / sigma.
+  // A height change is under a Cauchy loss (failed matches), a GPS altitude under Huber's.
+  enum class Loss { None, Cauchy, Huber };
+  struct Linear {
+    std::vector<long> states;
+    std::vector<double> coefficients;
+    double value, sigma;
+    Loss loss;
+  };
+  struct Sample {
+    double stamp, value, sigma;
+    bool barometer;
+  };
+  long new_state(double initial);
+  void add_sample_residual(const Sample& sample);
+  void solve();
+  void slide();
+  void marginalise(const std::vector<long>& dropped);
+  // Gauss-Newton normal equations (H, g) of `residuals` over the states in `order`, at the
+  // current estimate, robust residuals with the weight their loss gives them there.
+  void normal_equations(const std::vector<Linear>& residuals, const std::vector<long>& order, Eigen::MatrixXd& H,
+                        Eigen::VectorXd& g) const;
+
+  FusionSettings settings_;
+  std::map<long, double> states_;               // stable addresses for Ceres
+  long next_state_ = 0;
+  std::deque<std::pair<double, long>> nodes_;   // stamp, height state
+  std::deque<std::pair<double, long>> biases_;  // stamp, bias state
+  std::vector<Linear> residuals_;
+  std::vector<Sample> pending_;                 // newer than the newest node
+  std::optional<double> first_altitude_;
+  int since_solve_ = 0;
+  double height_sigma_ = 0;
+  std::optional<std::pair<double, double>> last_change_;  // stamp, value of the last accepted change
+  uint64_t changes_rejected_ = 0;
+};
+
+}  // namespace scanbus::pose_estimation

@@ -1,0 +1,75 @@
+// The MAV's pose from its four sources, one pose per scan-matcher result: height from the
+// HeightFusion (barometer, GPS altitude, scan-matcher height changes), horizontal position
+// from GPS in a local east-north-up frame, attitude from the IMU. A result waits until the
+// IMU and GPS have samples on both sides of its stamp, or until `max_wait` of newer data
+// shows they will not come.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <deque>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "scanbus/pose_estimation/height_fusion.hpp"
+#include "scanbus/transforms/transform_buffer.hpp"
+
+namespace scanbus::pose_estimation {
+
+struct PoseEstimatorSettings {
+  FusionSettings fusion;
+  Eigen::Isometry3d laser_in_body = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d origin{0, 0, 0};  // latitude, longitude (deg), altitude (m) of the map origin
+  double max_wait = 0.5;            // s of newer data after which a result goes ahead without IMU/GPS
+};
+
+struct EstimatedPose {
+  double stamp = 0;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // base_link in the map frame (ENU, m)
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d position_sigma = Eigen::Vector3d::Zero();  // m
+  bool has_attitude = false, has_position = false;  // false: held from the nearest sample
+  bool match_used = false;                           // the scan matcher's height change entered
+};
+
+class PoseEstimator {
+ public:
+  explicit PoseEstimator(PoseEstimatorSettings settings);
+  ~PoseEstimator();
+
+  void add_imu(double stamp, const Eigen::Quaterniond& orientation);
+  void add_fix(double stamp, double latitude, double longitude, double altitude, double horizontal_sigma,
+               double vertical_sigma);
+  void add_pressure(double stamp, double pascal);
+  // The scan matcher's increment (laser frame) since its previous scan, or none when the
+  // match failed.
+  void add_match(double stamp, std::optional<Eigen::Vector2d> increment);
+
+  // Poses of the results that became ready, oldest first.
+  std::vector<EstimatedPose> take_ready();
+
+  // The altitude above the map origin that a pressure means.
+  double barometric_height(double pascal) const;
+  const HeightFusion& fusion() const { return fusion_; }
+
+ private:
+  struct Match {
+    double stamp;
+    std::optional<Eigen::Vector2d> increment;
+  };
+  bool ready(const Match& match) const;
+  EstimatedPose estimate(const Match& match);
+
+  PoseEstimatorSettings settings_;
+  struct Local;
+  std::unique_ptr<Local> local_;  // GeographicLib's frame, kept out of this header
+  HeightFusion fusion_;
+  transforms::TransformSeries attitudes_{30.0}, positions_{30.0};
+  Eigen::Vector3d position_sigma_ = Eigen::Vector3d::Zero();
+  std::deque<Match> matches_;
+  double newest_input_ = -INFINITY;
+  std::optional<std::pair<double, Eigen::Quaterniond>> previous_;  // stamp and attitude of the last result
+};
+
+}  // namespace scanbus::pose_estimation

@@ -1,0 +1,99 @@
+#include "scanbus/pose_estimation/pose_estimator.hpp"
+
+#include <GeographicLib/LocalCartesian.hpp>
+
+#include <cmath>
+
+#include "scanbus/atmosphere.hpp"
+#include "scanbus/pose_estimation/laser_height.hpp"
+
+namespace scanbus::pose_estimation {
+
+struct PoseEstimator::Local {
+  GeographicLib::LocalCartesian frame;
+};
+
+PoseEstimator::PoseEstimator(PoseEstimatorSettings settings)
+    : settings_(std::move(settings)),
+      local_(new Local{GeographicLib::LocalCartesian(settings_.origin.x(), settings_.origin.y(), settings_.origin.z())}),
+      fusion_(settings_.fusion) {}
+
+PoseEstimator::~PoseEstimator() = default;
+
+void PoseEstimator::add_imu(double stamp, const Eigen::Quaterniond& orientation) {
+  Eigen::Isometry3d attitude = Eigen::Isometry3d::Identity();
+  attitude.linear() = orientation.normalized().toRotationMatrix();
+  attitudes_.add(stamp, attitude);
+  newest_input_ = std::max(newest_input_, stamp);
+}
+
+void PoseEstimator::add_fix(double stamp, double latitude, double longitude, double altitude,
+                            double horizontal_sigma, double vertical_sigma) {
+  Eigen::Isometry3d position = Eigen::Isometry3d::Identity();
+  double east, north, up;
+  local_->frame.Forward(latitude, longitude, altitude, east, north, up);
+  position.translation() = Eigen::Vector3d(east, north, up);
+  positions_.add(stamp, position);
+  position_sigma_ = Eigen::Vector3d(horizontal_sigma, horizontal_sigma, vertical_sigma);
+  fusion_.add_gps_altitude(stamp, up, vertical_sigma);
+  newest_input_ = std::max(newest_input_, stamp);
+}
+
+double PoseEstimator::barometric_height(double pascal) const {
+  return altitude_at_pressure(pascal) - settings_.origin.z();
+}
+
+void PoseEstimator::add_pressure(double stamp, double pascal) {
+  fusion_.add_barometer(stamp, barometric_height(pascal));
+  newest_input_ = std::max(newest_input_, stamp);
+}
+
+void PoseEstimator::add_match(double stamp, std::optional<Eigen::Vector2d> increment) {
+  if (!matches_.empty() && stamp <= matches_.back().stamp) return;  // a repeat or out of order: nothing new
+  if (previous_ && stamp <= previous_->first) return;
+  matches_.push_back({stamp, increment});
+  newest_input_ = std::max(newest_input_, stamp);
+}
+
+bool PoseEstimator::ready(const Match& match) const {
+  const bool covered = !attitudes_.empty() && attitudes_.newest() >= match.stamp && !positions_.empty() &&
+                       positions_.newest() >= match.stamp;
+  return covered || newest_input_ - match.stamp > settings_.max_wait;
+}
+
+EstimatedPose PoseEstimator::estimate(const Match& match) {
+  EstimatedPose pose;
+  pose.stamp = match.stamp;
+  std::optional<Eigen::Quaterniond> attitude;
+  if (!attitudes_.empty()) {
+    attitude = Eigen::Quaterniond(attitudes_.at(match.stamp, INFINITY).linear());
+    pose.has_attitude = attitudes_.outside_by(match.stamp) == 0;
+    pose.orientation = *attitude;
+  }
+  std::optional<double> change;
+  if (match.increment && attitude && previous_) {
+    change = height_change(match.increment->x(), match.increment->y(), previous_->second, *attitude,
+                           settings_.laser_in_body);
+  }
+  pose.match_used = change.has_value();
+  pose.position.z() = fusion_.add_node(match.stamp, change);
+  if (!positions_.empty()) {
+    pose.position.head<2>() = positions_.at(match.stamp, INFINITY).translation().head<2>();
+    pose.has_position = positions_.outside_by(match.stamp) == 0;
+  }
+  pose.position_sigma = position_sigma_;
+  pose.position_sigma.z() = fusion_.height_sigma();
+  if (attitude) previous_ = {match.stamp, *attitude};
+  return pose;
+}
+
+std::vector<EstimatedPose> PoseEstimator::take_ready() {
+  std::vector<EstimatedPose> poses;
+  while (!matches_.empty() && ready(matches_.front())) {
+    poses.push_back(estimate(matches_.front()));
+    matches_.pop_front();
+  }
+  return poses;
+}
+
+}  // namespace scanbus::pose_estimation

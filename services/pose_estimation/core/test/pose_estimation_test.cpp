@@ -1,0 +1,166 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "scanbus/pose_estimation/height_fusion.hpp"
+#include "scanbus/atmosphere.hpp"
+#include "scanbus/pose_estimation/laser_height.hpp"
+#include "scanbus/pose_estimation/pose_estimator.hpp"
+
+using namespace scanbus::pose_estimation;
+
+TEST(LaserHeight, DownwardLaserSeesTheGroundComeCloser) {
+  // The laser's x axis points down (a +90 degree pitch in the body): descending 0.2 m
+  // moves the laser +0.2 m along its own x.
+  Eigen::Isometry3d mount = Eigen::Isometry3d::Identity();
+  mount.translate(Eigen::Vector3d(0, 0, -0.1));
+  mount.rotate(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()));
+  const Eigen::Quaterniond level = Eigen::Quaterniond::Identity();
+  EXPECT_NEAR(height_change(0.2, 0, level, level, mount), -0.2, 1e-12);
+  EXPECT_NEAR(height_change(0, 0.5, level, level, mount), 0, 1e-12);  // sideways
+  // Rolled by 10 degrees: the laser's x leans, so part of a sideways move is height.
+  const Eigen::Quaterniond rolled(Eigen::AngleAxisd(0.1745, Eigen::Vector3d::UnitX()));
+  EXPECT_NEAR(height_change(0, 1.0, rolled, rolled, mount), std::sin(0.1745), 1e-3);
+  // Rolling alone swings the laser on its 10 cm lever: the body did not move.
+  const double swung = height_change(0, 0, level, rolled, mount);
+  EXPECT_NEAR(swung, -(0.1 - 0.1 * std::cos(0.1745)), 1e-9);
+}
+
+namespace {
+
+struct Track {
+  std::vector<double> truth, baro, fused, integrated;
+  uint64_t rejected = 0;
+};
+
+// 60 s at 30 Hz: a height wave, a barometer at 10 Hz with 0.3 m noise and a drifting
+// bias, scan-matcher changes with 3 mm noise and five wrong ones (failed matches).
+Track fly(const FusionSettings& settings) {
+  std::mt19937 random(3);
+  std::normal_distribution<double> gauss(0, 1);
+  HeightFusion fusion(settings);
+  Track track;
+  double drift = 0, previous = 0, integrated = 0;
+  for (int k = 0; k < 1800; ++k) {
+    const double t = k / 30.0, h = 3 + 0.4 * std::sin(t / 3);
+    if (k % 3 == 0) {
+      drift += 0.02 * std::sqrt(0.1) * gauss(random);
+      const double baro = h + drift + 0.3 * gauss(random);
+      fusion.add_barometer(t, baro);
+      track.baro.push_back(baro - h);
+      if (k == 0) integrated = baro;
+    }
+    std::optional<double> change;
+    if (k > 0) {
+      change = h - previous + 0.003 * gauss(random);
+      if (k % 350 == 100) *change += 0.3;  // a match that jumped
+      integrated += *change;
+    }
+    previous = h;
+    track.fused.push_back(fusion.add_node(t, change) - h);
+    track.integrated.push_back(integrated - h);
+  }
+  track.rejected = fusion.changes_rejected();
+  return track;
+}
+
+double rms(const std::vector<double>& errors) {
+  double sum = 0;
+  for (double e : errors) sum += e * e;
+  return std::sqrt(sum / static_cast<double>(errors.size()));
+}
+
+}  // namespace
+
+TEST(HeightFusion, BeatsBarometerAndIntegrationAndIgnoresFailedMatches) {
+  const Track track = fly({});
+  const double baro = rms(track.baro), integrated = rms(track.integrated), fused = rms(track.fused);
+  std::printf("height RMSE: barometer %.3f m, integrated changes %.3f m, fused %.3f m\n", baro, integrated, fused);
+  EXPECT_LT(fused, 0.5 * std::min(baro, integrated));
+  EXPECT_LT(fused, 0.1);
+  EXPECT_EQ(track.rejected, 5u);  // the five jumps, and nothing else
+}
+
+TEST(HeightFusion, WithoutChangesItFollowsTheBarometer) {
+  HeightFusion fusion;
+  for (int k = 0; k < 300; ++k) {
+    fusion.add_barometer(k * 0.1, 5.0);
+    fusion.add_node(k * 0.1, std::nullopt);
+  }
+  EXPECT_NEAR(fusion.height(), 5.0, 0.05);
+  EXPECT_LT(fusion.nodes_in_window(), 120u);  // the window slides
+}
+
+namespace {
+
+// The map origin and a fix `east` m east of it, `up` m above it (small offsets: a flat
+// approximation of WGS84 is within millimetres here).
+constexpr double kLat = 52.5, kLon = 13.4, kAlt = 34.0;
+constexpr double kMetresPerDegreeLat = 111260.0;  // WGS84 at 52.5 deg, within 0.1 %
+
+PoseEstimatorSettings settings_at_origin() {
+  PoseEstimatorSettings settings;
+  settings.origin = {kLat, kLon, kAlt};
+  settings.laser_in_body.translate(Eigen::Vector3d(0, 0, -0.1));
+  settings.laser_in_body.rotate(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()));
+  return settings;
+}
+
+}  // namespace
+
+TEST(PoseEstimator, AResultWaitsForImuAndGpsOnBothSides) {
+  PoseEstimator estimator(settings_at_origin());
+  estimator.add_pressure(0.0, scanbus::pressure_at_altitude(kAlt + 3));
+  estimator.add_imu(0.0, Eigen::Quaterniond::Identity());
+  estimator.add_fix(0.0, kLat, kLon, kAlt + 3, 0.5, 1.0);
+  estimator.add_match(0.05, std::nullopt);
+  EXPECT_TRUE(estimator.take_ready().empty());  // nothing after 0.05 s yet
+  estimator.add_imu(0.1, Eigen::Quaterniond::Identity());
+  EXPECT_TRUE(estimator.take_ready().empty());  // GPS still missing
+  estimator.add_fix(0.1, kLat + 1 / kMetresPerDegreeLat, kLon, kAlt + 3, 0.5, 1.0);
+  const auto poses = estimator.take_ready();
+  ASSERT_EQ(poses.size(), 1u);
+  EXPECT_TRUE(poses[0].has_attitude && poses[0].has_position);
+  EXPECT_NEAR(poses[0].position.y(), 0.5, 0.002);  // half way to the fix 1 m north
+  EXPECT_NEAR(poses[0].position.z(), 3.0, 0.01);   // the barometer's height above the origin
+  EXPECT_DOUBLE_EQ(poses[0].position_sigma.x(), 0.5);
+}
+
+TEST(PoseEstimator, GoesAheadWithoutImuAfterMaxWait) {
+  PoseEstimator estimator(settings_at_origin());
+  estimator.add_pressure(0.0, scanbus::pressure_at_altitude(kAlt + 2));
+  estimator.add_fix(0.0, kLat, kLon, kAlt + 2, 0.5, 1.0);
+  estimator.add_match(0.1, Eigen::Vector2d(0.1, 0));
+  EXPECT_TRUE(estimator.take_ready().empty());
+  estimator.add_fix(0.7, kLat, kLon, kAlt + 2, 0.5, 1.0);  // 0.6 s later: the IMU is not coming
+  const auto poses = estimator.take_ready();
+  ASSERT_EQ(poses.size(), 1u);
+  EXPECT_FALSE(poses[0].has_attitude);
+  EXPECT_FALSE(poses[0].match_used);  // no attitude, no height change
+}
+
+TEST(PoseEstimator, ScanMatcherChangesCarryTheHeightBetweenNoisyBarometerSamples) {
+  // Climbing at 0.3 m/s, level: the laser (x down) moves along its -x.
+  PoseEstimator estimator(settings_at_origin());
+  std::mt19937 random(5);
+  std::normal_distribution<double> gauss(0, 1);
+  double worst = 0;
+  for (int k = 0; k <= 600; ++k) {  // 20 s at 30 Hz
+    const double t = k / 30.0, h = 3 + 0.3 * t;
+    if (k % 3 == 0) {
+      estimator.add_imu(t, Eigen::Quaterniond::Identity());
+      estimator.add_fix(t, kLat, kLon, kAlt + h + 0.5 * gauss(random), 0.5, 1.0);
+      estimator.add_pressure(t, scanbus::pressure_at_altitude(kAlt + h + 0.3 * gauss(random)));
+    }
+    if (k > 0) estimator.add_match(t, Eigen::Vector2d(-0.3 / 30 + 0.002 * gauss(random), 0));
+    for (const auto& pose : estimator.take_ready()) {
+      EXPECT_TRUE(pose.match_used || pose.stamp < 0.05);
+      if (pose.stamp > 5) worst = std::max(worst, std::abs(pose.position.z() - (3 + 0.3 * pose.stamp)));
+    }
+  }
+  std::printf("worst height error after 5 s: %.3f m (barometer noise 0.3 m)\n", worst);
+  EXPECT_LT(worst, 0.15);
+  EXPECT_GT(estimator.fusion().height_sigma(), 0.0);
+  EXPECT_LT(estimator.fusion().height_sigma(), 0.15);
+}
