@@ -61,6 +61,7 @@ void add_sim_command(CLI::App& app, int& exit_code) {
   auto* scanner = command->add_subcommand("scanner", "The rotating scanner on a pseudo-terminal (prints 'pty PATH')");
   sim::add_scanner_sim_options(*scanner, options);
   scanner->callback([&exit_code] { exit_code = sim::run_scanner_sim(options); });
+  add_mav_sim_command(*command, exit_code);
 }
 
 }  // namespace scanbus::cli

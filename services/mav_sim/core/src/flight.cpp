@@ -3,6 +3,7 @@
 #include <GeographicLib/LocalCartesian.hpp>
 
 #include "scanbus/atmosphere.hpp"
+#include "scanbus/transforms/transform_buffer.hpp"
 
 #include <cmath>
 #include <random>
@@ -11,6 +12,8 @@
 namespace scanbus::mav_sim {
 
 namespace {
+
+using transforms::from_rpy;
 
 constexpr double kGravity = 9.81;
 constexpr double kDegree = M_PI / 180;
@@ -42,12 +45,6 @@ Eigen::Vector3d scenario_disturbance(const FlightSettings& s, double t) {
     case 3: return {wave(3, 3.3, t) * kDegree, wave(3, 4.1, t, 1) * kDegree, wave(0.4, 45, t)};
     default: return {0, 0, wave(0.03, 50, t)};
   }
-}
-
-Eigen::Quaterniond from_rpy(double roll, double pitch, double yaw) {
-  return Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
-                            Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
-                            Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()));
 }
 
 void check(bool ok, const std::string& what) {
@@ -94,12 +91,7 @@ GroundWorld scenario_world(const FlightSettings& s) {
   return GroundWorld();
 }
 
-Eigen::Isometry3d laser_in_body(const LaserSettings& laser) {
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.translate(laser.position);
-  pose.rotate(from_rpy(laser.rpy.x(), laser.rpy.y(), laser.rpy.z()));
-  return pose;
-}
+Eigen::Isometry3d laser_in_body(const LaserSettings& laser) { return transforms::from_xyz_rpy(laser.position, laser.rpy); }
 
 sensor_replay::MavLog simulate_flight(const FlightSettings& s) {
   validate(s);

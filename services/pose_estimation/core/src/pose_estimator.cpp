@@ -75,8 +75,10 @@ EstimatedPose PoseEstimator::estimate(const Match& match) {
     change = height_change(match.increment->x(), match.increment->y(), previous_->second, *attitude,
                            settings_.laser_in_body);
   }
-  pose.match_used = change.has_value();
+  pose.height_change = change;
+  const uint64_t rejected = fusion_.changes_rejected();
   pose.position.z() = fusion_.add_node(match.stamp, change);
+  pose.match_used = change.has_value() && fusion_.changes_rejected() == rejected;
   if (!positions_.empty()) {
     pose.position.head<2>() = positions_.at(match.stamp, INFINITY).translation().head<2>();
     pose.has_position = positions_.outside_by(match.stamp) == 0;
@@ -87,9 +89,9 @@ EstimatedPose PoseEstimator::estimate(const Match& match) {
   return pose;
 }
 
-std::vector<EstimatedPose> PoseEstimator::take_ready() {
+std::vector<EstimatedPose> PoseEstimator::take_ready(bool all) {
   std::vector<EstimatedPose> poses;
-  while (!matches_.empty() && ready(matches_.front())) {
+  while (!matches_.empty() && (all || ready(matches_.front()))) {
     poses.push_back(estimate(matches_.front()));
     matches_.pop_front();
   }

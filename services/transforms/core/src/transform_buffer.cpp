@@ -23,6 +23,19 @@ Eigen::Isometry3d interpolate(const Eigen::Isometry3d& a, const Eigen::Isometry3
   return result;
 }
 
+Eigen::Quaterniond from_rpy(double roll, double pitch, double yaw) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                            Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                            Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()));
+}
+
+Eigen::Isometry3d from_xyz_rpy(const Eigen::Vector3d& xyz, const Eigen::Vector3d& rpy) {
+  Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();
+  transform.translation() = xyz;
+  transform.linear() = from_rpy(rpy.x(), rpy.y(), rpy.z()).toRotationMatrix();
+  return transform;
+}
+
 void TransformSeries::add(double stamp, const Eigen::Isometry3d& transform) {
   const auto later = std::upper_bound(samples_.begin(), samples_.end(), stamp,
                                       [](double t, const auto& sample) { return t < sample.first; });

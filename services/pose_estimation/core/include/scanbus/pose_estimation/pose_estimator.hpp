@@ -31,6 +31,7 @@ struct EstimatedPose {
   Eigen::Vector3d position_sigma = Eigen::Vector3d::Zero();  // m
   bool has_attitude = false, has_position = false;  // false: held from the nearest sample
   bool match_used = false;                           // the scan matcher's height change entered
+  std::optional<double> height_change;               // m, from the match (before the fusion's gate)
 };
 
 class PoseEstimator {
@@ -46,8 +47,9 @@ class PoseEstimator {
   // match failed.
   void add_match(double stamp, std::optional<Eigen::Vector2d> increment);
 
-  // Poses of the results that became ready, oldest first.
-  std::vector<EstimatedPose> take_ready();
+  // Poses of the results that became ready, oldest first; with `all`, of every result
+  // (the input has ended).
+  std::vector<EstimatedPose> take_ready(bool all = false);
 
   // The altitude above the map origin that a pressure means.
   double barometric_height(double pascal) const;

@@ -42,6 +42,12 @@ class TransformSeries {
 
 Eigen::Isometry3d interpolate(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double weight);
 
+// Rotation from roll, pitch and yaw (rad) as ROS and tf2 take them: yaw about z, then pitch
+// about the new y, then roll about the new x (R = Rz(yaw) Ry(pitch) Rx(roll)).
+Eigen::Quaterniond from_rpy(double roll, double pitch, double yaw);
+// A transform from x y z (m) and roll pitch yaw (rad), as static_transform_publisher takes it.
+Eigen::Isometry3d from_xyz_rpy(const Eigen::Vector3d& xyz, const Eigen::Vector3d& rpy);
+
 // A tree of frames: each child has one parent, by a static or a time-stamped transform
 // (`parent_T_child`, a child point brought into the parent frame).
 class TransformBuffer {

@@ -1,0 +1,225 @@
+// The MAV paper's scenarios: `scanbus sim mav` writes a flight with its truth as a MAV log;
+// `scanbus eval mav` scores flights through the whole pipeline in one process (the paper's
+// table, with the fusion beside it); `scanbus eval boxes` measures the boxes in any cloud.
+#include <unistd.h>
+
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include "cloud_files.hpp"
+#include "commands.hpp"
+#include "scanbus/ground_evaluation/flight_evaluation.hpp"
+#include "scanbus/mav_sim/flight.hpp"
+
+namespace scanbus::cli {
+
+namespace {
+
+using ground_evaluation::BoxEvaluation;
+using ground_evaluation::FlightEvaluation;
+
+constexpr const char* kRoman[] = {"", "I", "II", "III", "IV"};
+
+struct FlightOptions {
+  int scenario = 1;
+  double duration = 180;
+  double height = 3.0;
+  std::vector<double> box{0.6, 0.4, 0.3};
+  unsigned seed = 1;
+};
+
+mav_sim::FlightSettings flight_settings(const FlightOptions& options) {
+  mav_sim::FlightSettings settings;
+  settings.scenario = options.scenario;
+  settings.duration = options.duration;
+  settings.height = options.height;
+  settings.box_size = {options.box[0], options.box[1], options.box[2]};
+  settings.seed = options.seed;
+  return settings;
+}
+
+void add_flight_options(CLI::App& command, FlightOptions& options) {
+  command.add_option("--duration", options.duration, "Seconds of flight")->check(CLI::Range(1.0, 3600.0));
+  command.add_option("--height", options.height, "Mean height above the ground, m")->check(CLI::Range(0.5, 25.0));
+  command.add_option("--box", options.box, "Scenario IV's boxes: length (along the flight), width, height in m")
+      ->expected(3)
+      ->delimiter(',');
+  command.add_option("--seed", options.seed, "Noise seed");
+}
+
+struct SimOptions {
+  FlightOptions flight;
+  std::string out;
+};
+
+int run_sim_mav(const SimOptions& options) {
+  const auto log = mav_sim::simulate_flight(flight_settings(options.flight));
+  sensor_replay::write_mav_log(options.out, log);
+  std::printf("wrote %s: scenario %s, %.0f s, %zu scans, %zu IMU, %zu GPS, %zu barometer, %zu truth samples\n",
+              options.out.c_str(), kRoman[options.flight.scenario], options.flight.duration, log.lasers.size(),
+              log.imus.size(), log.fixes.size(), log.baros.size(), log.truths.size());
+  return 0;
+}
+
+nlohmann::json boxes_json(const BoxEvaluation& result) {
+  nlohmann::json json{{"ok", result.ok}, {"ratio_actual", result.ratio_actual}};
+  if (!result.ok) {
+    json["message"] = result.message;
+    return json;
+  }
+  json["performance_percent"] = result.mean_performance_percent;
+  for (const auto& box : result.boxes) {
+    json["boxes"].push_back({{"centre", {box.centre.x(), box.centre.y()}}, {"yaw_deg", box.yaw * 180 / M_PI},
+                             {"length_m", box.length}, {"width_m", box.width}, {"height_m", box.height},
+                             {"points", box.points}, {"error_percent", box.error_percent},
+                             {"performance_percent", box.performance_percent}});
+  }
+  return json;
+}
+
+std::string performance_text(const BoxEvaluation& result) {
+  if (!result.ok) return "-";
+  char text[16];
+  std::snprintf(text, sizeof text, "%.2f %%", result.mean_performance_percent);
+  return text;
+}
+
+struct EvalMavOptions {
+  std::vector<std::string> logs;
+  std::vector<int> scenarios{1, 2, 3, 4};
+  FlightOptions flight;
+  bool json = false;
+};
+
+nlohmann::json evaluation_json(const std::string& name, const FlightEvaluation& e) {
+  nlohmann::json json{{"flight", name},
+                      {"scans", e.scans},
+                      {"poses", e.poses},
+                      {"failed_matches", e.matches_failed},
+                      {"rejected_changes", e.changes_rejected},
+                      {"fusion_ms_per_update", e.fusion_ms_per_update}};
+  for (int source = 0; source < 3; ++source) {
+    json["height_rmse_m"][ground_evaluation::kHeightSourceNames[source]] = e.height_rmse[source];
+    if (e.has_boxes) json["boxes"][ground_evaluation::kHeightSourceNames[source]] = boxes_json(e.boxes[source]);
+  }
+  return json;
+}
+
+int run_eval_mav(EvalMavOptions options) {
+  const bool progress = !options.json && isatty(STDOUT_FILENO);
+  std::vector<std::pair<std::string, sensor_replay::MavLog>> flights;
+  try {
+    for (const auto& path : options.logs) flights.emplace_back(path, sensor_replay::read_mav_log(path));
+  } catch (const sensor_replay::MavLogError& e) {
+    std::cerr << "scanbus eval mav: " << e.what() << "\n";
+    return 2;
+  }
+  if (options.logs.empty()) {
+    for (int scenario : options.scenarios) {
+      options.flight.scenario = scenario;
+      if (progress) std::printf("\rsimulating scenario %s   ", kRoman[scenario]), std::fflush(stdout);
+      flights.emplace_back(std::string("scenario ") + kRoman[scenario],
+                           mav_sim::simulate_flight(flight_settings(options.flight)));
+    }
+  }
+  nlohmann::json results = nlohmann::json::array();
+  if (!options.json) {
+    if (progress) std::printf("\r");
+    std::printf("%-14s %6s %7s | height RMSE (m): %9s %12s %7s %6s | boxes P: %9s %12s %8s\n", "flight", "scans",
+                "failed", "barometer", "scan matcher", "fused", "ratio", "barometer", "scan matcher", "fused");
+  }
+  for (const auto& [name, log] : flights) {
+    const std::string label = name;
+    const auto evaluation = ground_evaluation::evaluate_flight(log, {}, [&](size_t done, size_t total) {
+      if (progress) std::printf("\r%-14s %3.0f %%", label.c_str(), 100.0 * done / total), std::fflush(stdout);
+    });
+    if (options.json) {
+      results.push_back(evaluation_json(name, evaluation));
+      continue;
+    }
+    const double best = std::min(evaluation.height_rmse[0], evaluation.height_rmse[1]);
+    std::printf("\r%-14s %6zu %7zu | %26.3f %12.3f %7.3f %6.2f | %18s %12s %8s\n", name.c_str(), evaluation.scans,
+                evaluation.matches_failed, evaluation.height_rmse[0], evaluation.height_rmse[1],
+                evaluation.height_rmse[2], evaluation.height_rmse[2] / best,
+                performance_text(evaluation.boxes[0]).c_str(), performance_text(evaluation.boxes[1]).c_str(),
+                performance_text(evaluation.boxes[2]).c_str());
+  }
+  if (options.json) std::cout << results.dump() << "\n";
+  return 0;
+}
+
+struct EvalBoxesOptions {
+  std::string cloud;
+  std::vector<double> truth;
+  std::string unit = "m";
+  bool json = false;
+};
+
+int run_eval_boxes(const EvalBoxesOptions& options) {
+  std::vector<Eigen::Vector3f> cloud;
+  try {
+    cloud = read_cloud(options.cloud, options.unit == "cm" ? 0.01 : options.unit == "mm" ? 0.001 : 1.0);
+  } catch (const CloudFileError& e) {
+    std::cerr << "scanbus eval boxes: " << e.what() << "\n";
+    return 2;
+  }
+  const BoxEvaluation result = ground_evaluation::evaluate_boxes(cloud, options.truth[0], options.truth[1]);
+  if (options.json) {
+    std::cout << boxes_json(result).dump() << "\n";
+  } else if (!result.ok) {
+    std::printf("no boxes measured: %s\n", result.message.c_str());
+  } else {
+    for (size_t i = 0; i < result.boxes.size(); ++i) {
+      const auto& box = result.boxes[i];
+      std::printf("box %zu at (%.3f, %.3f): %.4f x %.4f m, %.3f m high, %zu points: E %.2f %%, P %.2f %%\n", i + 1,
+                  box.centre.x(), box.centre.y(), box.length, box.width, box.height, box.points, box.error_percent,
+                  box.performance_percent);
+    }
+    std::printf("P = %.2f %% (true width/length %.4f)\n", result.mean_performance_percent, result.ratio_actual);
+  }
+  return result.ok ? 0 : 1;
+}
+
+}  // namespace
+
+void add_mav_sim_command(CLI::App& sim, int& exit_code) {
+  static SimOptions options;
+  auto* command = sim.add_subcommand("mav", "A MAV flight of the paper's scenarios I-IV with ground truth, as a MAV log");
+  command->add_option("--scenario", options.flight.scenario, "1 forward flight, 2 rotational hover in wind, "
+                      "3 corner-like ground, 4 two boxes")->check(CLI::Range(1, 4));
+  add_flight_options(*command, options.flight);
+  command->add_option("--out", options.out, "The MAV log to write (docs/mav_log.md)")->required();
+  on_run(*command, exit_code, [] { return run_sim_mav(options); });
+}
+
+void add_eval_command(CLI::App& app, int& exit_code) {
+  auto* eval = app.add_subcommand("eval", "Ground model evaluation: flights against their truth, boxes in a cloud");
+  eval->require_subcommand(1);
+
+  static EvalMavOptions mav;
+  auto* flights = eval->add_subcommand("mav", "Height RMSE and box P of MAV flights through the whole pipeline "
+                                       "(simulated scenarios unless --log is given)");
+  flights->add_option("--log", mav.logs, "MAV logs to evaluate")->check(CLI::ExistingFile);
+  flights->add_option("--scenarios", mav.scenarios, "Scenarios to simulate and evaluate")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 4));
+  add_flight_options(*flights, mav.flight);
+  flights->add_flag("--json", mav.json, "One JSON array, no progress");
+  on_run(*flights, exit_code, [] { return run_eval_mav(mav); });
+
+  static EvalBoxesOptions boxes;
+  auto* measure = eval->add_subcommand("boxes", "Find the two boxes in a ground cloud and score their width/length "
+                                       "ratio (the MAV paper's E and P)");
+  measure->add_option("cloud", boxes.cloud, "PCD, PLY or XYZ cloud")->required()->check(CLI::ExistingFile);
+  measure->add_option("--truth", boxes.truth, "True width,length of the boxes (m)")
+      ->required()
+      ->expected(2)
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
+  measure->add_option("--unit", boxes.unit, "Unit of the cloud's coordinates")->check(CLI::IsMember({"m", "cm", "mm"}));
+  measure->add_flag("--json", boxes.json, "One JSON object");
+  on_run(*measure, exit_code, [] { return run_eval_boxes(boxes); });
+}
+
+}  // namespace scanbus::cli

@@ -1,0 +1,154 @@
+#include "scanbus/ground_evaluation/flight_evaluation.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+
+#include "scanbus/pose_estimation/pose_estimator.hpp"
+#include "scanbus/transforms/transform_buffer.hpp"
+
+namespace scanbus::ground_evaluation {
+
+namespace {
+
+using sensor_replay::MavLog;
+using sensor_replay::MavLogError;
+
+// The log's samples in time order, as a replay would publish them.
+enum class Kind { Imu, Fix, Baro, Laser };
+struct Event {
+  double stamp;
+  Kind kind;
+  size_t index;
+};
+
+std::vector<Event> events_of(const MavLog& log) {
+  std::vector<Event> events;
+  for (size_t i = 0; i < log.imus.size(); ++i) events.push_back({log.imus[i].stamp, Kind::Imu, i});
+  for (size_t i = 0; i < log.fixes.size(); ++i) events.push_back({log.fixes[i].stamp, Kind::Fix, i});
+  for (size_t i = 0; i < log.baros.size(); ++i) events.push_back({log.baros[i].stamp, Kind::Baro, i});
+  for (size_t i = 0; i < log.lasers.size(); ++i) events.push_back({log.lasers[i].stamp, Kind::Laser, i});
+  std::stable_sort(events.begin(), events.end(), [](const Event& a, const Event& b) { return a.stamp < b.stamp; });
+  return events;
+}
+
+// A value over time, interpolated linearly (the truth's and the barometer's height).
+class HeightSeries {
+ public:
+  void add(double stamp, double value) { samples_.emplace_back(stamp, value); }
+  double at(double stamp) const {
+    const auto later = std::lower_bound(samples_.begin(), samples_.end(), stamp,
+                                        [](const auto& sample, double t) { return sample.first < t; });
+    if (later == samples_.begin()) return later->second;
+    if (later == samples_.end()) return samples_.back().second;
+    const auto& before = *std::prev(later);
+    const double weight = (stamp - before.first) / (later->first - before.first);
+    return (1 - weight) * before.second + weight * later->second;
+  }
+  bool empty() const { return samples_.empty(); }
+
+ private:
+  std::vector<std::pair<double, double>> samples_;  // by stamp
+};
+
+cloud_assembly::LaserScanData scan_data(const sensor_replay::LaserRecord& record) {
+  return {record.stamp, record.angle_min, record.angle_increment, record.range_min, record.range_max, record.ranges};
+}
+
+scan_matcher::Scan matcher_scan(const sensor_replay::LaserRecord& record) {
+  return {record.angle_min, record.angle_increment, record.ranges};
+}
+
+}  // namespace
+
+FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettings& settings,
+                                 const std::function<void(size_t, size_t)>& progress) {
+  const auto& mount = log.meta_of("laser_mount", 6);
+  const auto& origin = log.meta_of("origin", 3);
+  if (log.truths.empty()) throw MavLogError("the log has no TRUTH records to score against");
+  pose_estimation::PoseEstimatorSettings estimator_settings;
+  estimator_settings.fusion = settings.fusion;
+  estimator_settings.laser_in_body =
+      transforms::from_xyz_rpy({mount[0], mount[1], mount[2]}, {mount[3], mount[4], mount[5]});
+  estimator_settings.origin = {origin[0], origin[1], origin[2]};
+  pose_estimation::PoseEstimator estimator(estimator_settings);
+  scan_matcher::ScanMatcher matcher(settings.matcher);
+
+  HeightSeries truth, barometer;
+  for (const auto& record : log.truths) truth.add(record.stamp, record.position.z());
+  for (const auto& record : log.baros) barometer.add(record.stamp, estimator.barometric_height(record.pressure));
+
+  FlightEvaluation result;
+  result.scans = log.lasers.size();
+  std::map<double, size_t> scan_at;  // laser records waiting for their pose
+  std::optional<double> integrated;  // the paper's height: first barometer + the changes
+  double squared[3] = {0, 0, 0};
+  std::chrono::duration<double> fusion_time{0};
+  const auto take_poses = [&](bool all) {
+    const auto started = std::chrono::steady_clock::now();
+    const auto poses = estimator.take_ready(all);
+    fusion_time += std::chrono::steady_clock::now() - started;
+    for (const auto& pose : poses) {
+      const auto found = scan_at.find(pose.stamp);
+      if (found == scan_at.end()) continue;
+      const double baro = barometer.at(pose.stamp);
+      integrated = integrated ? *integrated + pose.height_change.value_or(0.0) : baro;
+      const double heights[3] = {baro, *integrated, pose.position.z()};
+      const double true_height = truth.at(pose.stamp);
+      const auto points = cloud_assembly::scan_points(scan_data(log.lasers[found->second]), settings.gating);
+      for (int source = 0; source < 3; ++source) {
+        squared[source] += std::pow(heights[source] - true_height, 2);
+        Eigen::Isometry3d body = Eigen::Isometry3d::Identity();
+        body.translation() = Eigen::Vector3d(pose.position.x(), pose.position.y(), heights[source]);
+        body.linear() = pose.orientation.toRotationMatrix();
+        const Eigen::Isometry3d map_T_laser = body * estimator_settings.laser_in_body;
+        for (const auto& p : points) result.cloud[source].push_back((map_T_laser * p).cast<float>());
+      }
+      ++result.poses;
+      scan_at.erase(found);
+    }
+  };
+
+  const std::vector<Event> events = events_of(log);
+  for (size_t e = 0; e < events.size(); ++e) {
+    const Event& event = events[e];
+    switch (event.kind) {
+      case Kind::Imu: estimator.add_imu(event.stamp, log.imus[event.index].orientation); break;
+      case Kind::Fix: {
+        const auto& fix = log.fixes[event.index];
+        estimator.add_fix(fix.stamp, fix.latitude, fix.longitude, fix.altitude, fix.horizontal_sigma, fix.vertical_sigma);
+        break;
+      }
+      case Kind::Baro: estimator.add_pressure(event.stamp, log.baros[event.index].pressure); break;
+      case Kind::Laser: {
+        const auto match = matcher.add_scan(matcher_scan(log.lasers[event.index]));
+        const bool ok = match.quality == scan_matcher::MatchQuality::Ok;
+        result.matches_failed += !ok && match.quality != scan_matcher::MatchQuality::NoReference;
+        std::optional<Eigen::Vector2d> increment;
+        if (ok) increment = Eigen::Vector2d(match.increment.x, match.increment.y);
+        scan_at[event.stamp] = event.index;
+        estimator.add_match(event.stamp, increment);
+        break;
+      }
+    }
+    take_poses(false);
+    if (progress && e % 2000 == 0) progress(e, events.size());
+  }
+  take_poses(true);  // the log has ended: nothing more will come
+  if (progress) progress(events.size(), events.size());
+
+  for (int source = 0; source < 3; ++source)
+    result.height_rmse[source] = result.poses ? std::sqrt(squared[source] / static_cast<double>(result.poses)) : NAN;
+  result.changes_rejected = estimator.fusion().changes_rejected();
+  result.fusion_ms_per_update = result.poses ? fusion_time.count() * 1000 / static_cast<double>(result.poses) : 0;
+  const auto boxes = log.meta.find("boxes");
+  result.has_boxes = boxes != log.meta.end() && boxes->second.size() >= 2;
+  if (result.has_boxes) {
+    for (int source = 0; source < 3; ++source)
+      result.boxes[source] = evaluate_boxes(result.cloud[source], boxes->second[1], boxes->second[0], settings.boxes);
+  }
+  return result;
+}
+
+}  // namespace scanbus::ground_evaluation
