@@ -3,6 +3,7 @@
 // table, with the fusion beside it); `scanbus eval boxes` measures the boxes in any cloud.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -27,6 +28,7 @@ struct FlightOptions {
   double height = 3.0;
   std::vector<double> box{0.6, 0.4, 0.3};
   unsigned seed = 1;
+  std::string gps = "rtk";
 };
 
 mav_sim::FlightSettings flight_settings(const FlightOptions& options) {
@@ -36,6 +38,7 @@ mav_sim::FlightSettings flight_settings(const FlightOptions& options) {
   settings.height = options.height;
   settings.box_size = {options.box[0], options.box[1], options.box[2]};
   settings.seed = options.seed;
+  if (options.gps == "standalone") settings.noise = mav_sim::standalone_gps(settings.noise);
   return settings;
 }
 
@@ -46,6 +49,8 @@ void add_flight_options(CLI::App& command, FlightOptions& options) {
       ->expected(3)
       ->delimiter(',');
   command.add_option("--seed", options.seed, "Noise seed");
+  command.add_option("--gps", options.gps, "GPS grade: rtk (centimetres) or standalone (metres of wander)")
+      ->check(CLI::IsMember({"rtk", "standalone"}));
 }
 
 struct SimOptions {
@@ -89,8 +94,24 @@ struct EvalMavOptions {
   std::vector<std::string> logs;
   std::vector<int> scenarios{1, 2, 3, 4};
   FlightOptions flight;
+  std::string out;  // a folder for each flight's clouds (PCD) and their top views (PNG)
   bool json = false;
 };
+
+// FLIGHT_SOURCE.pcd and .png for each of the three heights, e.g. scenario_IV_fused.pcd.
+void write_clouds(const std::string& folder, const std::string& flight, const FlightEvaluation& evaluation) {
+  std::string stem = flight;
+  std::replace(stem.begin(), stem.end(), ' ', '_');
+  stem = stem.substr(stem.find_last_of('/') + 1);
+  for (int source = 0; source < 3; ++source) {
+    std::vector<CloudPoint> points;
+    points.reserve(evaluation.cloud[source].size());
+    for (const auto& p : evaluation.cloud[source]) points.push_back({p, 0.0f});
+    const std::string path = folder + "/" + stem + "_" + ground_evaluation::kHeightSourceNames[source];
+    write_pcd(path + ".pcd", points);
+    write_top_view_png(path + ".png", points, flight + ", height from " + ground_evaluation::kHeightSourceNames[source]);
+  }
+}
 
 nlohmann::json evaluation_json(const std::string& name, const FlightEvaluation& e) {
   nlohmann::json json{{"flight", name},
@@ -134,6 +155,7 @@ int run_eval_mav(EvalMavOptions options) {
     const auto evaluation = ground_evaluation::evaluate_flight(log, {}, [&](size_t done, size_t total) {
       if (progress) std::printf("\r%-14s %3.0f %%", label.c_str(), 100.0 * done / total), std::fflush(stdout);
     });
+    if (!options.out.empty()) write_clouds(options.out, name, evaluation);
     if (options.json) {
       results.push_back(evaluation_json(name, evaluation));
       continue;
@@ -205,6 +227,8 @@ void add_eval_command(CLI::App& app, int& exit_code) {
       ->delimiter(',')
       ->check(CLI::Range(1, 4));
   add_flight_options(*flights, mav.flight);
+  flights->add_option("--out", mav.out, "Folder for each flight's clouds (PCD) and height-coloured top views (PNG)")
+      ->check(CLI::ExistingDirectory);
   flights->add_flag("--json", mav.json, "One JSON array, no progress");
   on_run(*flights, exit_code, [] { return run_eval_mav(mav); });
 

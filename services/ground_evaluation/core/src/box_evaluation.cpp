@@ -197,8 +197,12 @@ BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double t
   const Eigen::Vector3d e1 = normal.unitOrthogonal(), e2 = normal.cross(e1);
   double total = 0;
   for (size_t c = 0; c < settings.boxes; ++c) {
-    double top = 0;
-    for (int index : clusters[c].indices) top = std::max(top, heights[static_cast<size_t>(index)]);
+    // The top's height: most of a box's points lie on its top, the highest are noise.
+    std::vector<double> cluster_heights;
+    for (int index : clusters[c].indices) cluster_heights.push_back(heights[static_cast<size_t>(index)]);
+    const auto at = cluster_heights.begin() + static_cast<long>(0.75 * static_cast<double>(cluster_heights.size() - 1));
+    std::nth_element(cluster_heights.begin(), at, cluster_heights.end());
+    const double top = *at;
     std::vector<Eigen::Vector2d> footprint_points;
     for (int index : clusters[c].indices) {
       if (heights[static_cast<size_t>(index)] < settings.top_fraction * top) continue;

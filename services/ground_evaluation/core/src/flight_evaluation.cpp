@@ -62,6 +62,13 @@ scan_matcher::Scan matcher_scan(const sensor_replay::LaserRecord& record) {
 
 }  // namespace
 
+scan_matcher::MatcherSettings mav_matcher_settings() {
+  scan_matcher::MatcherSettings settings;
+  settings.opening = M_PI / 2;
+  settings.max_correspondence = 0.15;
+  return settings;
+}
+
 FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettings& settings,
                                  const std::function<void(size_t, size_t)>& progress) {
   const auto& mount = log.meta_of("laser_mount", 6);
@@ -96,6 +103,7 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
       integrated = integrated ? *integrated + pose.height_change.value_or(0.0) : baro;
       const double heights[3] = {baro, *integrated, pose.position.z()};
       const double true_height = truth.at(pose.stamp);
+      result.heights.push_back({pose.stamp, true_height, {heights[0], heights[1], heights[2]}});
       const auto points = cloud_assembly::scan_points(scan_data(log.lasers[found->second]), settings.gating);
       for (int source = 0; source < 3; ++source) {
         squared[source] += std::pow(heights[source] - true_height, 2);

@@ -65,6 +65,13 @@ void validate(const FlightSettings& s) {
 
 }  // namespace
 
+SensorNoise standalone_gps(SensorNoise noise) {
+  noise.gps_horizontal = 0.02, noise.gps_vertical = 0.05;
+  noise.gps_velocity_horizontal = 0.02, noise.gps_velocity_vertical = 0.05;
+  noise.gps_wander_time = 300;
+  return noise;
+}
+
 BodyState scenario_state(const FlightSettings& s, double t) {
   BodyState state;
   state.position = scenario_position(s, t);

@@ -54,12 +54,7 @@ long HeightFusion::new_state(double initial) {
 
 void HeightFusion::add_barometer(double stamp, double altitude) {
   if (!first_altitude_) first_altitude_ = altitude;
-  pending_.push_back({stamp, altitude, settings_.baro_sigma, true});
-}
-
-void HeightFusion::add_gps_altitude(double stamp, double altitude, double sigma) {
-  if (!settings_.use_gps_altitude || !(sigma > 0)) return;
-  pending_.push_back({stamp, altitude, sigma * settings_.gps_sigma_scale, false});
+  pending_.push_back({stamp, altitude, settings_.baro_sigma});
 }
 
 double HeightFusion::add_node(double stamp, std::optional<double> change) {
@@ -100,7 +95,7 @@ double HeightFusion::add_node(double stamp, std::optional<double> change) {
 
 // Height and bias interpolated linearly between their states at the sample's time.
 void HeightFusion::add_sample_residual(const Sample& sample) {
-  Linear residual{{}, {}, sample.value, sample.sigma, sample.barometer ? Loss::None : Loss::Huber};
+  Linear residual{{}, {}, sample.value, sample.sigma, Loss::None};
   auto interpolate = [&](const std::deque<std::pair<double, long>>& entries) {
     const size_t i = before(entries, sample.stamp), j = std::min(i + 1, entries.size() - 1);
     const double span = entries[j].first - entries[i].first;
@@ -113,7 +108,7 @@ void HeightFusion::add_sample_residual(const Sample& sample) {
     }
   };
   interpolate(nodes_);
-  if (sample.barometer) interpolate(biases_);
+  interpolate(biases_);
   residuals_.push_back(std::move(residual));
 }
 
@@ -130,12 +125,6 @@ void HeightFusion::slide() {
   }
   if (!dropped.empty()) marginalise(dropped);
 }
-
-namespace {
-
-constexpr double kHuberScale = 2.0;  // sigmas: a GPS altitude further off (multipath) counts less
-
-}  // namespace
 
 void HeightFusion::normal_equations(const std::vector<Linear>& residuals, const std::vector<long>& order,
                                     Eigen::MatrixXd& H, Eigen::VectorXd& g) const {
@@ -155,7 +144,6 @@ void HeightFusion::normal_equations(const std::vector<Linear>& residuals, const 
     r /= residual.sigma;
     double weight = 1.0;  // the loss's derivative at r^2, as Ceres weighs the residual
     if (residual.loss == Loss::Cauchy) weight = 1 / (1 + r * r / (cauchy * cauchy));
-    if (residual.loss == Loss::Huber && std::abs(r) > kHuberScale) weight = kHuberScale / std::abs(r);
     H += weight * row * row.transpose();
     g += weight * row * r;
   }
@@ -214,7 +202,6 @@ void HeightFusion::solve() {
     for (long s : residual.states) blocks.push_back(&states_.at(s));
     ceres::LossFunction* loss = nullptr;
     if (residual.loss == Loss::Cauchy) loss = new ceres::CauchyLoss(cauchy);
-    if (residual.loss == Loss::Huber) loss = new ceres::HuberLoss(kHuberScale);
     problem.AddResidualBlock(new LinearCost(residual.coefficients, residual.value, residual.sigma), loss, blocks);
   }
   ceres::Solver::Options options;

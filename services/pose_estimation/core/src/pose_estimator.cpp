@@ -35,7 +35,6 @@ void PoseEstimator::add_fix(double stamp, double latitude, double longitude, dou
   position.translation() = Eigen::Vector3d(east, north, up);
   positions_.add(stamp, position);
   position_sigma_ = Eigen::Vector3d(horizontal_sigma, horizontal_sigma, vertical_sigma);
-  fusion_.add_gps_altitude(stamp, up, vertical_sigma);
   newest_input_ = std::max(newest_input_, stamp);
 }
 

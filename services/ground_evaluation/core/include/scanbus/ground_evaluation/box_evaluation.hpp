@@ -17,7 +17,8 @@ struct BoxSearchSettings {
   double min_height = 0.1;          // m above the ground: lower points belong to the ground
   double cluster_tolerance = 0.05;  // m between neighbouring points of one box
   size_t min_cluster_points = 30;
-  double top_fraction = 0.5;        // a box's footprint is drawn from its points above this share of its height
+  double top_fraction = 0.9;        // a box's footprint is drawn from its points above this share of
+                                    // its top's height: its sides, seen at a slant, would widen it
   double noise = 0.02;              // m: a first guess of the points' noise (estimated with the sides)
 };
 

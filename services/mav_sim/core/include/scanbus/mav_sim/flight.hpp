@@ -31,18 +31,25 @@ struct SensorNoise {
   double imu_rate = 10;                  // Hz (the paper's pose rate)
   double imu_roll_pitch = 0.3 * M_PI / 180;  // rad, white
   double imu_yaw = 1.0 * M_PI / 180;         // rad, white
-  // GPS as the MAV's navigation solution delivers it (GNSS aided by the IMU): metres of
-  // slow wander from a velocity error (first-order Gauss-Markov, integrated with a leak)
-  // and centimetres of jitter from fix to fix.
+  // GPS as the MAV's navigation solution delivers it: slow wander from a velocity error
+  // (first-order Gauss-Markov, integrated with a leak that bounds it) and jitter from fix to
+  // fix. The defaults are an RTK-fixed receiver, as survey MAVs carry (1 cm + 1 ppm, as
+  // e.g. u-blox F9P data sheets give): 1 cm jitter, under 2 cm of wander. A
+  // receiver without corrections (standalone_gps()) wanders by metres, which smears a cloud
+  // built over several passes however good the height is.
   double gps_rate = 10;                  // Hz
-  double gps_horizontal = 0.02, gps_vertical = 0.05;                 // m, white
-  double gps_velocity_horizontal = 0.02, gps_velocity_vertical = 0.05;  // m/s, the wander's velocity error
+  double gps_horizontal = 0.01, gps_vertical = 0.02;                    // m, white
+  double gps_velocity_horizontal = 0.0005, gps_velocity_vertical = 0.001;  // m/s, the wander's velocity error
   double gps_velocity_time = 20;         // s, its correlation time
-  double gps_wander_time = 300;          // s, the leak that bounds the wander
+  double gps_wander_time = 60;           // s, the leak that bounds the wander
   double baro_rate = 10;                 // Hz
   double baro_noise = 0.3;               // m equivalent, white (prop wash, turbulence)
   double baro_drift = 0.02;              // m/sqrt(s), random walk (weather, temperature)
 };
+
+// A GPS without corrections: 2 cm jitter, about 1.5 m (horizontal) and 3.9 m (vertical) of
+// wander over minutes, velocity errors of 2 and 5 cm/s.
+SensorNoise standalone_gps(SensorNoise noise);
 
 struct FlightSettings {
   int scenario = 1;                      // 1..4 as in the paper
