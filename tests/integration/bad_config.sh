@@ -29,7 +29,7 @@ expect_error 2 "key 'qos.rt/no_such_topic' names an unknown topic" -- "$probe" s
 expect_error 2 "unknown service 'nope'" -- "$scanbus" run nope
 
 # Every shipped config is valid for its service.
-for config in "$(dirname "$0")"/../../config/services/*.yaml; do
+for config in "$(dirname "$0")"/../../config/services/*.yaml "$(dirname "$0")"/../../config/mav/*.yaml; do
   service=$(basename "$config" .yaml)
   if "$scanbus" run "$service" --config "$config" --check-config > "$work/out" 2>&1; then
     echo "ok   $(cat "$work/out")"

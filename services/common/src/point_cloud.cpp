@@ -54,6 +54,30 @@ sensor_msgs::msg::PointCloud2 to_point_cloud2(const std::vector<CloudPoint>& poi
   return cloud;
 }
 
+sensor_msgs::msg::PointCloud2 to_coloured_point_cloud2(const std::vector<Eigen::Vector3f>& points,
+                                                       const std::vector<uint32_t>& colours, const std::string& frame_id,
+                                                       const builtin_interfaces::msg::Time& stamp) {
+  if (colours.size() != points.size()) throw std::invalid_argument("one colour per point is needed");
+  sensor_msgs::msg::PointCloud2 cloud;
+  cloud.header().frame_id(frame_id);
+  cloud.header().stamp(stamp);
+  cloud.fields({float_field("x", 0), float_field("y", 4), float_field("z", 8), float_field("rgb", 12)});
+  cloud.height(1);
+  cloud.width(static_cast<uint32_t>(points.size()));
+  cloud.is_bigendian(false);
+  cloud.point_step(kPointStep);
+  cloud.row_step(kPointStep * cloud.width());
+  cloud.is_dense(true);
+  cloud.data().resize(points.size() * kPointStep);
+  uint8_t* out = cloud.data().data();
+  for (size_t i = 0; i < points.size(); ++i) {
+    std::memcpy(out, points[i].data(), 12);
+    std::memcpy(out + 12, &colours[i], 4);
+    out += kPointStep;
+  }
+  return cloud;
+}
+
 std::vector<CloudPoint> from_point_cloud2(const sensor_msgs::msg::PointCloud2& cloud) {
   if (cloud.is_bigendian()) throw std::invalid_argument("big-endian PointCloud2 is not supported");
   const int x = float_offset(cloud, "x"), y = float_offset(cloud, "y"), z = float_offset(cloud, "z");

@@ -35,6 +35,8 @@ const std::vector<TopicInfo>& topic_catalogue() {
        "MAV GPS position."},
       {"rt/pressure", "sensor_msgs::msg::dds_::FluidPressure_", kSensor, "sensor replay", "pose_estimation",
        "MAV barometer, in Pa."},
+      {"rt/truth/pose", "geometry_msgs::msg::dds_::PoseStamped_", {true, false, false, 100}, "sensor replay (simulated flights)",
+       "tests, RViz2", "Ground truth of the MAV's base_link in the map frame, where a flight has it."},
       {"rt/scan_match", "scanbus::msg::dds_::ScanMatch_", kReliable, "scan_matcher", "pose_estimation",
        "PL-ICP result per scan: cumulative and incremental pose, covariance, quality."},
       {"rt/pose", "geometry_msgs::msg::dds_::PoseWithCovarianceStamped_", kReliable, "pose_estimation",

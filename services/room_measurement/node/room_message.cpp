@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "scanbus/point_cloud.hpp"
+
 namespace scanbus::room_measurement {
 
 uint32_t wall_colour(size_t index) {
@@ -44,36 +46,15 @@ scanbus::msg::RoomMeasurement to_message(const RoomResult& result, const std::st
 
 sensor_msgs::msg::PointCloud2 walls_cloud(const RoomResult& result, const std::string& frame_id,
                                           const builtin_interfaces::msg::Time& stamp) {
-  sensor_msgs::msg::PointCloud2 cloud;
-  cloud.header().stamp(stamp);
-  cloud.header().frame_id(frame_id);
-  const char* names[] = {"x", "y", "z", "rgb"};
-  for (uint32_t i = 0; i < 4; ++i) {
-    sensor_msgs::msg::PointField field;
-    field.name(names[i]);
-    field.offset(4 * i);
-    field.datatype(sensor_msgs::msg::PointField_Constants::FLOAT32);  // rgb: packed bytes in a float, as PCL does
-    field.count(1);
-    cloud.fields().push_back(field);
-  }
-  size_t count = 0;
-  for (const auto& wall : result.walls) count += wall.line.inliers.size();
-  cloud.height(1);
-  cloud.width(static_cast<uint32_t>(count));
-  cloud.point_step(16);
-  cloud.row_step(16 * cloud.width());
-  cloud.is_dense(true);
-  cloud.data().resize(count * 16);
-  uint8_t* out = cloud.data().data();
+  std::vector<Eigen::Vector3f> points;
+  std::vector<uint32_t> colours;
   for (size_t w = 0; w < result.walls.size(); ++w) {
-    const uint32_t colour = wall_colour(w);
     for (const auto& p : result.walls[w].line.inliers) {
-      std::memcpy(out, p.data(), 12);
-      std::memcpy(out + 12, &colour, 4);
-      out += 16;
+      points.push_back(p);
+      colours.push_back(wall_colour(w));
     }
   }
-  return cloud;
+  return to_coloured_point_cloud2(points, colours, frame_id, stamp);
 }
 
 }  // namespace scanbus::room_measurement

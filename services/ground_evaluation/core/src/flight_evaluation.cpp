@@ -15,24 +15,6 @@ namespace {
 using sensor_replay::MavLog;
 using sensor_replay::MavLogError;
 
-// The log's samples in time order, as a replay would publish them.
-enum class Kind { Imu, Fix, Baro, Laser };
-struct Event {
-  double stamp;
-  Kind kind;
-  size_t index;
-};
-
-std::vector<Event> events_of(const MavLog& log) {
-  std::vector<Event> events;
-  for (size_t i = 0; i < log.imus.size(); ++i) events.push_back({log.imus[i].stamp, Kind::Imu, i});
-  for (size_t i = 0; i < log.fixes.size(); ++i) events.push_back({log.fixes[i].stamp, Kind::Fix, i});
-  for (size_t i = 0; i < log.baros.size(); ++i) events.push_back({log.baros[i].stamp, Kind::Baro, i});
-  for (size_t i = 0; i < log.lasers.size(); ++i) events.push_back({log.lasers[i].stamp, Kind::Laser, i});
-  std::stable_sort(events.begin(), events.end(), [](const Event& a, const Event& b) { return a.stamp < b.stamp; });
-  return events;
-}
-
 // A value over time, interpolated linearly (the truth's and the barometer's height).
 class HeightSeries {
  public:
@@ -118,33 +100,34 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
     }
   };
 
-  const std::vector<Event> events = events_of(log);
-  for (size_t e = 0; e < events.size(); ++e) {
-    const Event& event = events[e];
-    switch (event.kind) {
-      case Kind::Imu: estimator.add_imu(event.stamp, log.imus[event.index].orientation); break;
-      case Kind::Fix: {
-        const auto& fix = log.fixes[event.index];
+  const std::vector<sensor_replay::RecordRef> records = sensor_replay::records_in_time_order(log);
+  for (size_t e = 0; e < records.size(); ++e) {
+    const auto& record = records[e];
+    switch (record.kind) {
+      case sensor_replay::RecordKind::Imu: estimator.add_imu(record.stamp, log.imus[record.index].orientation); break;
+      case sensor_replay::RecordKind::Gps: {
+        const auto& fix = log.fixes[record.index];
         estimator.add_fix(fix.stamp, fix.latitude, fix.longitude, fix.altitude, fix.horizontal_sigma, fix.vertical_sigma);
         break;
       }
-      case Kind::Baro: estimator.add_pressure(event.stamp, log.baros[event.index].pressure); break;
-      case Kind::Laser: {
-        const auto match = matcher.add_scan(matcher_scan(log.lasers[event.index]));
+      case sensor_replay::RecordKind::Baro: estimator.add_pressure(record.stamp, log.baros[record.index].pressure); break;
+      case sensor_replay::RecordKind::Laser: {
+        const auto match = matcher.add_scan(matcher_scan(log.lasers[record.index]));
         const bool ok = match.quality == scan_matcher::MatchQuality::Ok;
         result.matches_failed += !ok && match.quality != scan_matcher::MatchQuality::NoReference;
         std::optional<Eigen::Vector2d> increment;
         if (ok) increment = Eigen::Vector2d(match.increment.x, match.increment.y);
-        scan_at[event.stamp] = event.index;
-        estimator.add_match(event.stamp, increment);
+        scan_at[record.stamp] = record.index;
+        estimator.add_match(record.stamp, increment);
         break;
       }
+      case sensor_replay::RecordKind::Truth: continue;
     }
     take_poses(false);
-    if (progress && e % 2000 == 0) progress(e, events.size());
+    if (progress && e % 2000 == 0) progress(e, records.size());
   }
   take_poses(true);  // the log has ended: nothing more will come
-  if (progress) progress(events.size(), events.size());
+  if (progress) progress(records.size(), records.size());
 
   for (int source = 0; source < 3; ++source)
     result.height_rmse[source] = result.poses ? std::sqrt(squared[source] / static_cast<double>(result.poses)) : NAN;

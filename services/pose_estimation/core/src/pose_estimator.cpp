@@ -9,6 +9,33 @@
 
 namespace scanbus::pose_estimation {
 
+PoseEstimatorSettings pose_estimator_settings_from_config(const Config& section) {
+  constexpr double kDegree = M_PI / 180;
+  PoseEstimatorSettings s;
+  const auto origin = section.numbers("origin", 3);
+  if (std::abs(origin[0]) > 90 || std::abs(origin[1]) > 180) section.fail("origin", "must be latitude, longitude in degrees");
+  s.origin = {origin[0], origin[1], origin[2]};
+  const Config mount = section.section("laser_mount");
+  const auto xyz = mount.has("xyz") ? mount.numbers("xyz", 3) : std::vector<double>{0, 0, -0.1};
+  const auto rpy = mount.has("rpy") ? mount.numbers("rpy", 3) : std::vector<double>{0, 90, 0};
+  s.laser_in_body = transforms::from_xyz_rpy({xyz[0], xyz[1], xyz[2]},
+                                             Eigen::Vector3d(rpy[0], rpy[1], rpy[2]) * kDegree);
+  s.max_wait = section.number("max_wait", s.max_wait, 0.0, 10.0);
+  const Config fusion = section.section("fusion");
+  FusionSettings& f = s.fusion;
+  f.window = fusion.number("window", f.window, 0.1, 600);
+  f.baro_sigma = fusion.number("baro_sigma", f.baro_sigma, 1e-4, 100);
+  f.bias_random_walk = fusion.number("bias_random_walk", f.bias_random_walk, 1e-6, 100);
+  f.bias_spacing = fusion.number("bias_spacing", f.bias_spacing, 0.01, 600);
+  f.initial_bias_sigma = fusion.number("initial_bias_sigma", f.initial_bias_sigma, 1e-6, 1000);
+  f.change_sigma = fusion.number("change_sigma", f.change_sigma, 1e-6, 10);
+  f.change_loss = fusion.number("change_loss", f.change_loss, 1e-6, 10);
+  f.change_gate = fusion.number("change_gate", f.change_gate, 1e-6, 100);
+  f.gate_memory = fusion.number("gate_memory", f.gate_memory, 0, 600);
+  f.solve_every = static_cast<int>(fusion.integer("solve_every", f.solve_every, 1, 1000));
+  return s;
+}
+
 struct PoseEstimator::Local {
   GeographicLib::LocalCartesian frame;
 };
@@ -45,6 +72,7 @@ double PoseEstimator::barometric_height(double pascal) const {
 void PoseEstimator::add_pressure(double stamp, double pascal) {
   fusion_.add_barometer(stamp, barometric_height(pascal));
   newest_input_ = std::max(newest_input_, stamp);
+  newest_pressure_ = std::max(newest_pressure_, stamp);
 }
 
 void PoseEstimator::add_match(double stamp, std::optional<Eigen::Vector2d> increment) {
@@ -55,8 +83,9 @@ void PoseEstimator::add_match(double stamp, std::optional<Eigen::Vector2d> incre
 }
 
 bool PoseEstimator::ready(const Match& match) const {
+  // The first height is the barometer's: the first result also waits for a pressure.
   const bool covered = !attitudes_.empty() && attitudes_.newest() >= match.stamp && !positions_.empty() &&
-                       positions_.newest() >= match.stamp;
+                       positions_.newest() >= match.stamp && (previous_ || newest_pressure_ > -INFINITY);
   return covered || newest_input_ - match.stamp > settings_.max_wait;
 }
 

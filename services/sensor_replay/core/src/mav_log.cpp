@@ -1,5 +1,6 @@
 #include "scanbus/sensor_replay/mav_log.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -56,6 +57,20 @@ const std::vector<double>& MavLog::meta_of(const std::string& name, size_t size)
   return found->second;
 }
 
+std::vector<RecordRef> records_in_time_order(const MavLog& log) {
+  std::vector<RecordRef> records;
+  const auto add = [&](const auto& entries, RecordKind kind) {
+    for (size_t i = 0; i < entries.size(); ++i) records.push_back({entries[i].stamp, kind, i});
+  };
+  add(log.lasers, RecordKind::Laser);
+  add(log.imus, RecordKind::Imu);
+  add(log.fixes, RecordKind::Gps);
+  add(log.baros, RecordKind::Baro);
+  add(log.truths, RecordKind::Truth);
+  std::stable_sort(records.begin(), records.end(), [](const RecordRef& a, const RecordRef& b) { return a.stamp < b.stamp; });
+  return records;
+}
+
 void write_mav_log(const std::string& path, const MavLog& log) {
   std::ofstream out(path);
   if (!out) throw MavLogError(path + ": cannot write");
@@ -65,42 +80,31 @@ void write_mav_log(const std::string& path, const MavLog& log) {
     for (double value : values) out << ' ' << value;
     out << '\n';
   }
-  // Merged in time order, as a replay reads them.
-  size_t l = 0, i = 0, g = 0, b = 0, t = 0;
-  const double never = INFINITY;
-  while (true) {
-    const double next[] = {l < log.lasers.size() ? log.lasers[l].stamp : never,
-                           i < log.imus.size() ? log.imus[i].stamp : never,
-                           g < log.fixes.size() ? log.fixes[g].stamp : never,
-                           b < log.baros.size() ? log.baros[b].stamp : never,
-                           t < log.truths.size() ? log.truths[t].stamp : never};
-    const auto earliest = std::min_element(std::begin(next), std::end(next)) - std::begin(next);
-    if (next[earliest] == never) break;
+  for (const RecordRef& record : records_in_time_order(log)) {
     out << std::fixed << std::setprecision(6);
-    switch (earliest) {
-      case 0: {
-        const auto& r = log.lasers[l++];
+    switch (record.kind) {
+      case RecordKind::Laser: {
+        const auto& r = log.lasers[record.index];
         out << "LASER " << r.stamp << ' ' << std::setprecision(9) << r.angle_min << ' ' << r.angle_increment << ' '
             << std::setprecision(3) << r.range_min << ' ' << r.range_max << ' ' << r.ranges.size();
         for (float range : r.ranges) std::isinf(range) ? out << " inf" : out << ' ' << range;
         break;
       }
-      case 1:
-        out << "IMU " << log.imus[i].stamp << std::setprecision(9);
-        write_quaternion(out, log.imus[i++].orientation);
+      case RecordKind::Imu:
+        out << "IMU " << log.imus[record.index].stamp << std::setprecision(9);
+        write_quaternion(out, log.imus[record.index].orientation);
         break;
-      case 2: {
-        const auto& r = log.fixes[g++];
+      case RecordKind::Gps: {
+        const auto& r = log.fixes[record.index];
         out << "GPS " << r.stamp << ' ' << std::setprecision(9) << r.latitude << ' ' << r.longitude << ' '
             << std::setprecision(3) << r.altitude << ' ' << r.horizontal_sigma << ' ' << r.vertical_sigma;
         break;
       }
-      case 3:
-        out << "BARO " << log.baros[b].stamp << ' ' << std::setprecision(2) << log.baros[b].pressure;
-        ++b;
+      case RecordKind::Baro:
+        out << "BARO " << log.baros[record.index].stamp << ' ' << std::setprecision(2) << log.baros[record.index].pressure;
         break;
-      default: {
-        const auto& r = log.truths[t++];
+      case RecordKind::Truth: {
+        const auto& r = log.truths[record.index];
         out << "TRUTH " << r.stamp << ' ' << r.position.x() << ' ' << r.position.y() << ' ' << r.position.z()
             << std::setprecision(9);
         write_quaternion(out, r.orientation);

@@ -12,6 +12,7 @@
 #include <optional>
 #include <vector>
 
+#include "scanbus/config.hpp"
 #include "scanbus/pose_estimation/height_fusion.hpp"
 #include "scanbus/transforms/transform_buffer.hpp"
 
@@ -23,6 +24,10 @@ struct PoseEstimatorSettings {
   Eigen::Vector3d origin{0, 0, 0};  // latitude, longitude (deg), altitude (m) of the map origin
   double max_wait = 0.5;            // s of newer data after which a result goes ahead without IMU/GPS
 };
+
+// Section `pose_estimation` of config/services/pose_estimation.yaml (angles in degrees
+// there, radians here).
+PoseEstimatorSettings pose_estimator_settings_from_config(const Config& section);
 
 struct EstimatedPose {
   double stamp = 0;
@@ -70,7 +75,7 @@ class PoseEstimator {
   transforms::TransformSeries attitudes_{30.0}, positions_{30.0};
   Eigen::Vector3d position_sigma_ = Eigen::Vector3d::Zero();
   std::deque<Match> matches_;
-  double newest_input_ = -INFINITY;
+  double newest_input_ = -INFINITY, newest_pressure_ = -INFINITY;
   std::optional<std::pair<double, Eigen::Quaterniond>> previous_;  // stamp and attitude of the last result
 };
 

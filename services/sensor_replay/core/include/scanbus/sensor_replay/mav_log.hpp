@@ -60,6 +60,16 @@ struct MavLog {
   const std::vector<double>& meta_of(const std::string& name, size_t size) const;
 };
 
+// Every record of a log in time order (stable: equal stamps keep the order below), as a
+// replay publishes them and the log file lists them.
+enum class RecordKind { Laser, Imu, Gps, Baro, Truth };
+struct RecordRef {
+  double stamp;
+  RecordKind kind;
+  size_t index;  // into the vector of its kind
+};
+std::vector<RecordRef> records_in_time_order(const MavLog& log);
+
 void write_mav_log(const std::string& path, const MavLog& log);
 // Throws MavLogError naming the file and line of anything malformed.
 MavLog read_mav_log(const std::string& path);

@@ -1,0 +1,243 @@
+// Thin DDS node: scans wait in a queue until the transform at their stamp is known (like
+// tf2's message filter), then go into the continuous cloud and the window of recent scans.
+// The continuous cloud is published every period when it grew; requests are answered
+// from the window.
+#include "cloud_assembly_node.hpp"
+
+#include <algorithm>
+#include <deque>
+
+#include "scanbus/clock.hpp"
+#include "scanbus/cloud_assembly/cloud_builder.hpp"
+#include "scanbus/messages.hpp"
+#include "scanbus/point_cloud.hpp"
+#include "scanbus/transforms/transform_buffer.hpp"
+
+namespace scanbus::cloud_assembly {
+
+namespace {
+
+namespace Reply = scanbus::msg::AssembleReply_Constants;
+
+struct Settings {
+  std::string fixed_frame;
+  ScanGating gating;
+  double voxel_size;
+  size_t max_voxels;
+  double window_age;
+  size_t window_points;
+  double publish_period;
+  double transform_timeout;
+  double cache_time;
+};
+
+Settings read_settings(const Config& config) {
+  Settings s;
+  s.fixed_frame = config.text("fixed_frame", "map");
+  s.gating.range_max = config.number("range_max", 30.0, 0.01, 1000);
+  s.gating.opening = config.number("opening", 90.0, 1, 360) * M_PI / 180;
+  s.voxel_size = config.number("voxel_size", 0.01, 0.001, 10);
+  s.max_voxels = static_cast<size_t>(config.integer("max_voxels", 5000000, 1, 1000000000));
+  s.window_age = config.number("window_age", 600.0, 0.1, 86400);
+  s.window_points = static_cast<size_t>(config.integer("window_points", 20000000, 1, 1000000000));
+  s.publish_period = config.number("publish_period", 1.0, 0.05, 3600);
+  s.transform_timeout = config.number("transform_timeout", 2.0, 0.0, 600);
+  s.cache_time = config.number("cache_time", 30.0, 1.0, 3600);
+  return s;
+}
+
+Eigen::Isometry3d isometry(const geometry_msgs::msg::Transform& t) {
+  Eigen::Isometry3d result = Eigen::Isometry3d::Identity();
+  result.translation() = Eigen::Vector3d(t.translation().x(), t.translation().y(), t.translation().z());
+  result.linear() = Eigen::Quaterniond(t.rotation().w(), t.rotation().x(), t.rotation().y(), t.rotation().z())
+                        .normalized()
+                        .toRotationMatrix();
+  return result;
+}
+
+// Colours by height between the 2nd and 98th percentile, so a few stray points do not
+// wash out the ground's colours.
+std::vector<uint32_t> colours_by_height(const std::vector<Eigen::Vector3f>& points) {
+  if (points.empty()) return {};
+  std::vector<float> heights(points.size());
+  for (size_t i = 0; i < points.size(); ++i) heights[i] = points[i].z();
+  const auto at = [&](double share) {
+    auto it = heights.begin() + static_cast<long>(share * static_cast<double>(heights.size() - 1));
+    std::nth_element(heights.begin(), it, heights.end());
+    return *it;
+  };
+  const double low = at(0.02), high = at(0.98);
+  std::vector<uint32_t> colours(points.size());
+  for (size_t i = 0; i < points.size(); ++i) colours[i] = height_colour(points[i].z(), low, high);
+  return colours;
+}
+
+struct PendingScan {
+  std::string frame;
+  LaserScanData scan;
+};
+
+class CloudAssembly : public Service {
+ public:
+  explicit CloudAssembly(ServiceContext& context)
+      : log_(context.log),
+        health_(context.health),
+        settings_(read_settings(context.config.section("cloud_assembly"))),
+        buffer_(settings_.cache_time),
+        continuous_(settings_.voxel_size, settings_.max_voxels),
+        window_(settings_.window_age, settings_.window_points),
+        assembled_(context.participant, "rt/cloud/assembled"),
+        replies_(context.participant, "rt/cloud/assemble_reply") {
+    tf_static_ = std::make_unique<Reader<tf2_msgs::msg::TFMessagePubSubType>>(
+        context.participant, "rt/tf_static", [this](const auto& m, const auto&) { receive(m, true); });
+    tf_ = std::make_unique<Reader<tf2_msgs::msg::TFMessagePubSubType>>(
+        context.participant, "rt/tf", [this](const auto& m, const auto&) { receive(m, false); });
+    scans_ = std::make_unique<Reader<sensor_msgs::msg::LaserScanPubSubType>>(
+        context.participant, "rt/scan", [this](const auto& m, const auto&) { receive(m); });
+    requests_ = std::make_unique<Reader<scanbus::msg::AssembleRequestPubSubType>>(
+        context.participant, "rt/cloud/assemble_request", [this](const auto& m, const auto&) { receive(m); });
+  }
+
+  int run() override {
+    const auto period = std::chrono::milliseconds(static_cast<long>(settings_.publish_period * 1000));
+    while (!StopSignal::wait_for(period)) publish_if_grown();
+    requests_.reset();  // no callback may outlive what it uses
+    scans_.reset();
+    tf_.reset();
+    tf_static_.reset();
+    publish_if_grown();  // what came in since the last period
+    assembled_.wait_for_acknowledgments(std::chrono::seconds(2));
+    return 0;
+  }
+
+ private:
+  void receive(const tf2_msgs::msg::TFMessage& message, bool is_static) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& t : message.transforms()) {
+      try {
+        if (is_static) {
+          buffer_.set_static(t.header().frame_id(), t.child_frame_id(), isometry(t.transform()));
+        } else {
+          const double stamp = to_seconds(t.header().stamp());
+          buffer_.add(t.header().frame_id(), t.child_frame_id(), stamp, isometry(t.transform()));
+          newest_ = std::max(newest_, stamp);
+        }
+      } catch (const transforms::TransformError& e) {
+        ++health_.counter("transforms_rejected");
+        health_.error(e.what());
+      }
+    }
+    process_pending();
+  }
+
+  void receive(const sensor_msgs::msg::LaserScan& message) {
+    PendingScan pending{message.header().frame_id(),
+                        {to_seconds(message.header().stamp()), message.angle_min(), message.angle_increment(),
+                         message.range_min(), message.range_max(), message.ranges()}};
+    if (pending.frame.empty() || !std::isfinite(pending.scan.angle_min) || !std::isfinite(pending.scan.angle_increment)) {
+      ++health_.counter("scans_rejected");
+      health_.error("scan without a frame or with unusable angles");
+      return;
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    newest_ = std::max(newest_, pending.scan.stamp);
+    pending_.push_back(std::move(pending));
+    process_pending();
+  }
+
+  // Scans in arrival order; one whose transform is still missing `transform_timeout` after
+  // its stamp (by the newest stamp seen) is dropped with the reason.
+  void process_pending() {
+    while (!pending_.empty()) {
+      PendingScan& next = pending_.front();
+      std::string why;
+      if (buffer_.can_lookup(settings_.fixed_frame, next.frame, next.scan.stamp, &why)) {
+        const Eigen::Isometry3d to_fixed = buffer_.lookup(settings_.fixed_frame, next.frame, next.scan.stamp);
+        std::vector<Eigen::Vector3d> points = scan_points(next.scan, settings_.gating);
+        for (auto& p : points) p = to_fixed * p;
+        continuous_.add(points);
+        std::vector<Eigen::Vector3f> window_points(points.size());
+        for (size_t i = 0; i < points.size(); ++i) window_points[i] = points[i].cast<float>();
+        window_.add(next.scan.stamp, std::move(window_points));
+        ++health_.counter("scans_assembled");
+      } else if (newest_ - next.scan.stamp > settings_.transform_timeout) {
+        ++health_.counter("scans_dropped");
+        health_.error("scan dropped: " + why);
+      } else {
+        return;  // its transform may still come, and later scans wait behind it
+      }
+      pending_.pop_front();
+    }
+  }
+
+  void receive(const scanbus::msg::AssembleRequest& request) {
+    scanbus::msg::AssembleReply reply;
+    reply.request_id(request.request_id());
+    reply.client(request.client());
+    const double begin = to_seconds(request.begin()), end = to_seconds(request.end());
+    const std::string frame = request.frame_id().empty() ? settings_.fixed_frame : request.frame_id();
+    std::vector<Eigen::Vector3f> points;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      std::string why;
+      if (!(end >= begin)) {
+        reply.status(Reply::BAD_REQUEST);
+        reply.message("end is before begin");
+      } else if (frame != settings_.fixed_frame && !buffer_.can_lookup(frame, settings_.fixed_frame, end, &why)) {
+        reply.status(Reply::BAD_REQUEST);
+        reply.message("no transform to '" + frame + "' at the window's end: " + why);
+      } else {
+        points = window_.assemble(begin, end);
+        if (frame != settings_.fixed_frame) {
+          const Eigen::Affine3f to_frame = buffer_.lookup(frame, settings_.fixed_frame, end).cast<float>();
+          for (auto& p : points) p = to_frame * p;
+        }
+        reply.status(points.empty() ? Reply::EMPTY : Reply::OK);
+        reply.message(points.empty() ? "no scans between " + std::to_string(begin) + " and " + std::to_string(end) +
+                                           " (kept: " + std::to_string(window_.oldest()) + " to " +
+                                           std::to_string(window_.newest()) + ")"
+                                     : "");
+      }
+    }
+    reply.cloud(to_coloured_point_cloud2(points, colours_by_height(points), frame, request.end()));
+    replies_.write(reply);
+    ++health_.counter("requests");
+  }
+
+  void publish_if_grown() {
+    std::vector<Eigen::Vector3f> points;
+    double stamp;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (continuous_.size() == published_size_) return;
+      published_size_ = continuous_.size();
+      points = continuous_.points();
+      stamp = newest_;
+      health_.counter("voxels_dropped") = continuous_.dropped();
+    }
+    assembled_.write(to_coloured_point_cloud2(points, colours_by_height(points), settings_.fixed_frame, to_stamp(stamp)));
+    ++health_.counter("clouds_published");
+  }
+
+  std::shared_ptr<spdlog::logger> log_;
+  HealthReporter& health_;
+  Settings settings_;
+  std::mutex mutex_;
+  transforms::TransformBuffer buffer_;
+  ContinuousCloud continuous_;
+  ScanWindow window_;
+  std::deque<PendingScan> pending_;
+  double newest_ = 0;
+  size_t published_size_ = 0;
+  Writer<sensor_msgs::msg::PointCloud2PubSubType> assembled_;
+  Writer<scanbus::msg::AssembleReplyPubSubType> replies_;
+  std::unique_ptr<Reader<tf2_msgs::msg::TFMessagePubSubType>> tf_static_, tf_;
+  std::unique_ptr<Reader<sensor_msgs::msg::LaserScanPubSubType>> scans_;
+  std::unique_ptr<Reader<scanbus::msg::AssembleRequestPubSubType>> requests_;
+};
+
+}  // namespace
+
+std::unique_ptr<Service> make_cloud_assembly(ServiceContext& context) { return std::make_unique<CloudAssembly>(context); }
+
+}  // namespace scanbus::cloud_assembly

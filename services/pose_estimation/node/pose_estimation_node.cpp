@@ -1,0 +1,178 @@
+// Thin DDS node around the PoseEstimator: every input goes in under one lock, every pose
+// that becomes ready goes out as PoseWithCovarianceStamped and as the base_link transform.
+#include "pose_estimation_node.hpp"
+
+#include <cmath>
+
+#include "scanbus/clock.hpp"
+#include "scanbus/messages.hpp"
+#include "scanbus/pose_estimation/pose_estimator.hpp"
+
+namespace scanbus::pose_estimation {
+
+namespace {
+
+struct Frames {
+  std::string map, body, laser;
+};
+
+Frames read_frames(const Config& section) {
+  const Config frames = section.section("frames");
+  return {frames.text("map", "map"), frames.text("base_link", "base_link"), frames.text("laser", "laser")};
+}
+
+geometry_msgs::msg::TransformStamped transform_message(double stamp, const std::string& parent,
+                                                       const std::string& child, const Eigen::Isometry3d& t) {
+  geometry_msgs::msg::TransformStamped message;
+  message.header().stamp(to_stamp(stamp));
+  message.header().frame_id(parent);
+  message.child_frame_id(child);
+  message.transform().translation().x(t.translation().x());
+  message.transform().translation().y(t.translation().y());
+  message.transform().translation().z(t.translation().z());
+  const Eigen::Quaterniond q(t.linear());
+  message.transform().rotation().x(q.x());
+  message.transform().rotation().y(q.y());
+  message.transform().rotation().z(q.z());
+  message.transform().rotation().w(q.w());
+  return message;
+}
+
+class PoseEstimation : public Service {
+ public:
+  explicit PoseEstimation(ServiceContext& context)
+      : log_(context.log),
+        health_(context.health),
+        settings_(pose_estimator_settings_from_config(context.config.section("pose_estimation"))),
+        frames_(read_frames(context.config.section("pose_estimation"))),
+        estimator_(settings_),
+        poses_(context.participant, "rt/pose"),
+        tf_(context.participant, "rt/tf"),
+        tf_static_(context.participant, "rt/tf_static") {
+    tf2_msgs::msg::TFMessage mount;
+    mount.transforms().push_back(
+        transform_message(to_seconds(now_stamp()), frames_.body, frames_.laser, settings_.laser_in_body));
+    tf_static_.write(mount);  // transient local: late subscribers get it too
+    imu_ = std::make_unique<Reader<sensor_msgs::msg::ImuPubSubType>>(
+        context.participant, "rt/imu", [this](const auto& m, const auto&) { receive(m); });
+    fixes_ = std::make_unique<Reader<sensor_msgs::msg::NavSatFixPubSubType>>(
+        context.participant, "rt/fix", [this](const auto& m, const auto&) { receive(m); });
+    pressures_ = std::make_unique<Reader<sensor_msgs::msg::FluidPressurePubSubType>>(
+        context.participant, "rt/pressure", [this](const auto& m, const auto&) { receive(m); });
+    matches_ = std::make_unique<Reader<scanbus::msg::ScanMatchPubSubType>>(
+        context.participant, "rt/scan_match", [this](const auto& m, const auto&) { receive(m); });
+  }
+
+  int run() override {
+    while (!StopSignal::requested()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    matches_.reset();  // no callback may outlive what it uses
+    pressures_.reset();
+    fixes_.reset();
+    imu_.reset();
+    return 0;
+  }
+
+ private:
+  void receive(const sensor_msgs::msg::Imu& imu) {
+    const auto& q = imu.orientation();
+    const Eigen::Quaterniond orientation(q.w(), q.x(), q.y(), q.z());
+    if (!orientation.coeffs().allFinite() || std::abs(orientation.norm() - 1) > 0.01) {
+      reject("imu_rejected", "IMU orientation is not a unit quaternion");
+      return;
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    estimator_.add_imu(to_seconds(imu.header().stamp()), orientation);
+    publish_ready();
+  }
+
+  void receive(const sensor_msgs::msg::NavSatFix& fix) {
+    if (fix.status().status() < sensor_msgs::msg::NavSatStatus_Constants::STATUS_FIX || !std::isfinite(fix.latitude()) ||
+        !std::isfinite(fix.longitude()) || !std::isfinite(fix.altitude())) {
+      reject("fixes_rejected", "GPS fix without a position");
+      return;
+    }
+    // Diagonal sigmas from the covariance; an unknown one counts as 10 m.
+    const bool known = fix.position_covariance_type() != sensor_msgs::msg::NavSatFix_Constants::COVARIANCE_TYPE_UNKNOWN;
+    const double horizontal = known ? std::sqrt(std::max(fix.position_covariance()[0], 0.0)) : 10.0;
+    const double vertical = known ? std::sqrt(std::max(fix.position_covariance()[8], 0.0)) : 10.0;
+    std::lock_guard<std::mutex> lock(mutex_);
+    estimator_.add_fix(to_seconds(fix.header().stamp()), fix.latitude(), fix.longitude(), fix.altitude(), horizontal,
+                       vertical);
+    publish_ready();
+  }
+
+  void receive(const sensor_msgs::msg::FluidPressure& pressure) {
+    if (!(pressure.fluid_pressure() > 1000 && pressure.fluid_pressure() < 200000)) {
+      reject("pressures_rejected", "pressure outside 1 to 200 kPa");
+      return;
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    estimator_.add_pressure(to_seconds(pressure.header().stamp()), pressure.fluid_pressure());
+    publish_ready();
+  }
+
+  void receive(const scanbus::msg::ScanMatch& match) {
+    std::optional<Eigen::Vector2d> increment;
+    if (match.quality() == scanbus::msg::ScanMatch_Constants::OK)
+      increment = Eigen::Vector2d(match.increment().x(), match.increment().y());
+    std::lock_guard<std::mutex> lock(mutex_);
+    estimator_.add_match(to_seconds(match.header().stamp()), increment);
+    publish_ready();
+  }
+
+  void reject(const char* counter, const std::string& why) {
+    ++health_.counter(counter);
+    health_.error(why);
+  }
+
+  void publish_ready() {
+    for (const auto& pose : estimator_.take_ready()) {
+      geometry_msgs::msg::PoseWithCovarianceStamped message;
+      message.header().stamp(to_stamp(pose.stamp));
+      message.header().frame_id(frames_.map);
+      auto& p = message.pose().pose();
+      p.position().x(pose.position.x());
+      p.position().y(pose.position.y());
+      p.position().z(pose.position.z());
+      p.orientation().x(pose.orientation.x());
+      p.orientation().y(pose.orientation.y());
+      p.orientation().z(pose.orientation.z());
+      p.orientation().w(pose.orientation.w());
+      // Position variances on the diagonal; the attitude's are not estimated (left 0).
+      for (int axis = 0; axis < 3; ++axis)
+        message.pose().covariance()[axis * 7] = pose.position_sigma[axis] * pose.position_sigma[axis];
+      poses_.write(message);
+      Eigen::Isometry3d body = Eigen::Isometry3d::Identity();
+      body.translation() = pose.position;
+      body.linear() = pose.orientation.toRotationMatrix();
+      tf2_msgs::msg::TFMessage tf;
+      tf.transforms().push_back(transform_message(pose.stamp, frames_.map, frames_.body, body));
+      tf_.write(tf);
+      ++health_.counter("poses");
+      if (!pose.has_attitude || !pose.has_position) ++health_.counter("poses_held");  // IMU or GPS missing
+      if (pose.height_change && !pose.match_used) ++health_.counter("changes_rejected");
+    }
+  }
+
+  std::shared_ptr<spdlog::logger> log_;
+  HealthReporter& health_;
+  PoseEstimatorSettings settings_;
+  Frames frames_;
+  std::mutex mutex_;
+  PoseEstimator estimator_;
+  Writer<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType> poses_;
+  Writer<tf2_msgs::msg::TFMessagePubSubType> tf_;
+  Writer<tf2_msgs::msg::TFMessagePubSubType> tf_static_;
+  std::unique_ptr<Reader<sensor_msgs::msg::ImuPubSubType>> imu_;
+  std::unique_ptr<Reader<sensor_msgs::msg::NavSatFixPubSubType>> fixes_;
+  std::unique_ptr<Reader<sensor_msgs::msg::FluidPressurePubSubType>> pressures_;
+  std::unique_ptr<Reader<scanbus::msg::ScanMatchPubSubType>> matches_;
+};
+
+}  // namespace
+
+std::unique_ptr<Service> make_pose_estimation(ServiceContext& context) {
+  return std::make_unique<PoseEstimation>(context);
+}
+
+}  // namespace scanbus::pose_estimation
