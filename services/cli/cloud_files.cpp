@@ -1,5 +1,7 @@
 #include "cloud_files.hpp"
 
+#include "scanbus/cloud_assembly/cloud_builder.hpp"
+
 #include <cairo.h>
 #include <pcl/console/print.h>
 #include <pcl/io/pcd_io.h>
@@ -66,12 +68,6 @@ void check_pcd_header(const std::string& path) {
 }
 
 // Blue (low) to red (high), like RViz's rainbow.
-void height_colour(double t, double& r, double& g, double& b) {
-  t = std::clamp(t, 0.0, 1.0);
-  r = std::clamp(1.5 - std::abs(4 * t - 3), 0.0, 1.0);
-  g = std::clamp(1.5 - std::abs(4 * t - 2), 0.0, 1.0);
-  b = std::clamp(1.5 - std::abs(4 * t - 1), 0.0, 1.0);
-}
 
 }  // namespace
 
@@ -118,9 +114,10 @@ void write_pcd(const std::string& path, const std::vector<CloudPoint>& points) {
 }
 
 
-void write_top_view_png(const std::string& path, const std::vector<CloudPoint>& points, const std::string& title) {
+void write_cloud_png(const std::string& path, const std::vector<CloudPoint>& points, const std::string& title,
+                     CloudView view, bool mark_origin) {
   if (points.empty()) throw std::runtime_error(path + ": no points to draw");
-  // Robust extent: a few far returns (through doors, windows) must not shrink the room.
+  // Robust extent: a few far returns (through doors, windows) must not shrink the picture.
   Eigen::Vector3f low, high;
   for (int axis = 0; axis < 3; ++axis) {
     std::vector<float> values;
@@ -129,13 +126,19 @@ void write_top_view_png(const std::string& path, const std::vector<CloudPoint>& 
     low[axis] = values[values.size() * 2 / 100] - 0.5f;
     high[axis] = values[values.size() * 98 / 100] + 0.5f;
   }
+  // Picture axes: x right; y (top view) or z (side view, looking along +y) up.
+  const bool top = view == CloudView::Top;
+  const int up = top ? 1 : 2, depth = top ? 2 : 1;
+  // 800 pixels wide (or high, when the cloud is taller than wide); the other side fits it.
   const int size = 800, margin = 40;
-  const double span = std::max({high.x() - low.x(), high.y() - low.y(), 1e-3f});
+  const double span = std::max({high.x() - low.x(), high[up] - low[up], 1e-3f});
   const double scale = (size - 2 * margin) / span;
+  const int width = static_cast<int>((high.x() - low.x()) * scale) + 2 * margin;
+  const int height = std::max(240, static_cast<int>((high[up] - low[up]) * scale) + 2 * margin);
   auto px = [&](double x) { return margin + (x - low.x()) * scale; };
-  auto py = [&](double y) { return size - margin - (y - low.y()) * scale; };
+  auto py = [&](double v) { return height - margin - (v - low[up]) * scale; };
 
-  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, size, size);
+  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, std::max(width, 640), height);
   cairo_t* cr = cairo_create(surface);
   cairo_set_source_rgb(cr, 1, 1, 1);
   cairo_paint(cr);
@@ -143,37 +146,43 @@ void write_top_view_png(const std::string& path, const std::vector<CloudPoint>& 
   cairo_set_line_width(cr, 1);
   for (double x = std::ceil(low.x()); x <= high.x(); x += 1.0) {
     cairo_move_to(cr, px(x), margin);
-    cairo_line_to(cr, px(x), size - margin);
+    cairo_line_to(cr, px(x), height - margin);
   }
-  for (double y = std::ceil(low.y()); y <= high.y(); y += 1.0) {
-    cairo_move_to(cr, margin, py(y));
-    cairo_line_to(cr, size - margin, py(y));
+  for (double v = std::ceil(low[up]); v <= high[up]; v += 1.0) {
+    cairo_move_to(cr, margin, py(v));
+    cairo_line_to(cr, width - margin, py(v));
   }
   cairo_stroke(cr);
-  // Higher points drawn last, as seen from above.
+  // The points nearest the viewer drawn last: the highest from above, the lowest y from the side.
   std::vector<const CloudPoint*> order;
   for (const auto& point : points) order.push_back(&point);
-  std::sort(order.begin(), order.end(), [](auto a, auto b) { return a->position.z() < b->position.z(); });
-  const double height = std::max(high.z() - low.z(), 1e-3f);
-  cairo_rectangle(cr, margin, margin, size - 2 * margin, size - 2 * margin);
+  std::sort(order.begin(), order.end(), [&](auto a, auto b) {
+    return top ? a->position[depth] < b->position[depth] : a->position[depth] > b->position[depth];
+  });
+  cairo_rectangle(cr, margin, margin, width - 2 * margin, height - 2 * margin);
   cairo_clip(cr);
   for (const CloudPoint* point : order) {
-    double r, g, b;
-    height_colour((point->position.z() - low.z()) / height, r, g, b);
-    cairo_set_source_rgb(cr, r, g, b);
-    cairo_arc(cr, px(point->position.x()), py(point->position.y()), 1.6, 0, 2 * M_PI);
+    const uint32_t colour = cloud_assembly::height_colour(point->position.z(), low.z() + 0.5, high.z() - 0.5);
+    cairo_set_source_rgb(cr, (colour >> 16) / 255.0, ((colour >> 8) & 0xFF) / 255.0, (colour & 0xFF) / 255.0);
+    cairo_arc(cr, px(point->position.x()), py(point->position[up]), 1.6, 0, 2 * M_PI);
     cairo_fill(cr);
   }
   cairo_reset_clip(cr);
+  std::string legend = top ? "top view" : "side view (x right, z up)";
+  legend += ", grid 1 m, colour = height (blue low, red high)";
+  if (mark_origin) {
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_arc(cr, px(0), py(0), 4, 0, 2 * M_PI);
+    cairo_fill(cr);
+    legend += ", black dot = scanner";
+  }
   cairo_set_source_rgb(cr, 0, 0, 0);
-  cairo_arc(cr, px(0), py(0), 4, 0, 2 * M_PI);  // the scanner
-  cairo_fill(cr);
   cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
   cairo_set_font_size(cr, 14);
   cairo_move_to(cr, margin, 25);
   cairo_show_text(cr, title.c_str());
-  cairo_move_to(cr, margin, size - 12);
-  cairo_show_text(cr, "top view, grid 1 m, colour = height (blue low, red high), black dot = scanner");
+  cairo_move_to(cr, margin, height - 12);
+  cairo_show_text(cr, legend.c_str());
   cairo_destroy(cr);
   const cairo_status_t status = cairo_surface_write_to_png(surface, path.c_str());
   cairo_surface_destroy(surface);

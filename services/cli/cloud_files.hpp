@@ -1,5 +1,5 @@
 // Files a person opens: the cloud as PCD (PCL, CloudCompare, RViz via pcl_ros) and a
-// height-coloured top view as PNG. Only this file's .cpp includes PCL.
+// height-coloured view as PNG. Only this file's .cpp includes PCL.
 #pragma once
 
 #include <stdexcept>
@@ -22,7 +22,10 @@ class CloudFileError : public std::runtime_error {
 };
 std::vector<Eigen::Vector3f> read_cloud(const std::string& path, double scale);
 
-// Top view (x right, y up), points coloured by height, 1 m grid. Throws on failure.
-void write_top_view_png(const std::string& path, const std::vector<CloudPoint>& points, const std::string& title);
+// The cloud from above (x right, y up) or from the side (x right, z up), points coloured by
+// height, 1 m grid, optionally the origin marked as the scanner. Throws on failure.
+enum class CloudView { Top, Side };
+void write_cloud_png(const std::string& path, const std::vector<CloudPoint>& points, const std::string& title,
+                     CloudView view, bool mark_origin);
 
 }  // namespace scanbus::cli

@@ -45,7 +45,7 @@ int run_demo(const DemoOptions& options) {
   const std::string pcd = options.out + "/scan.pcd", png = options.out + "/room_top.png",
                     plan = options.out + "/floor_plan.png";
   write_pcd(pcd, result.points);
-  write_top_view_png(png, result.points, "scanbus demo: built-in room (thesis case 1), simulated scan");
+  write_cloud_png(png, result.points, "scanbus demo: built-in room (thesis case 1), simulated scan", CloudView::Top, true);
   std::vector<Eigen::Vector3f> background;
   for (const auto& point : result.points) background.push_back(point.position);
   write_floor_plan(plan, room, "scanbus demo: built-in room (thesis case 1, 5.47 m x 3.48 m)", background);

@@ -109,7 +109,8 @@ void write_clouds(const std::string& folder, const std::string& flight, const Fl
     for (const auto& p : evaluation.cloud[source]) points.push_back({p, 0.0f});
     const std::string path = folder + "/" + stem + "_" + ground_evaluation::kHeightSourceNames[source];
     write_pcd(path + ".pcd", points);
-    write_top_view_png(path + ".png", points, flight + ", height from " + ground_evaluation::kHeightSourceNames[source]);
+    write_cloud_png(path + ".png", points, flight + ", height from " + ground_evaluation::kHeightSourceNames[source],
+                    CloudView::Top, false);
   }
 }
 
@@ -144,24 +145,34 @@ int run_eval_mav(EvalMavOptions options) {
                            mav_sim::simulate_flight(flight_settings(options.flight)));
     }
   }
-  nlohmann::json results = nlohmann::json::array();
-  if (!options.json) {
-    if (progress) std::printf("\r");
-    std::printf("%-14s %6s %7s | height RMSE (m): %9s %12s %7s %6s | boxes P: %9s %12s %8s\n", "flight", "scans",
-                "failed", "barometer", "scan matcher", "fused", "ratio", "barometer", "scan matcher", "fused");
-  }
+  std::vector<FlightEvaluation> evaluations;
   for (const auto& [name, log] : flights) {
     const std::string label = name;
-    const auto evaluation = ground_evaluation::evaluate_flight(log, {}, [&](size_t done, size_t total) {
-      if (progress) std::printf("\r%-14s %3.0f %%", label.c_str(), 100.0 * done / total), std::fflush(stdout);
-    });
-    if (!options.out.empty()) write_clouds(options.out, name, evaluation);
+    try {
+      evaluations.push_back(ground_evaluation::evaluate_flight(log, {}, [&](size_t done, size_t total) {
+        if (progress) std::printf("\revaluating %s: %3.0f %%   ", label.c_str(), 100.0 * done / total), std::fflush(stdout);
+      }));
+    } catch (const sensor_replay::MavLogError& e) {
+      if (progress) std::printf("\n");
+      std::cerr << "scanbus eval mav: " << name << ": " << e.what() << "\n";
+      return 2;
+    }
+    if (!options.out.empty()) write_clouds(options.out, name, evaluations.back());
+  }
+  if (progress) std::printf("\r%60s\r", "");
+  nlohmann::json results = nlohmann::json::array();
+  if (!options.json)
+    std::printf("%-14s %6s %7s | height RMSE (m): %9s %12s %7s %6s | boxes P: %9s %12s %8s\n", "flight", "scans",
+                "failed", "barometer", "scan matcher", "fused", "ratio", "barometer", "scan matcher", "fused");
+  for (size_t i = 0; i < flights.size(); ++i) {
+    const std::string& name = flights[i].first;
+    const FlightEvaluation& evaluation = evaluations[i];
     if (options.json) {
       results.push_back(evaluation_json(name, evaluation));
       continue;
     }
     const double best = std::min(evaluation.height_rmse[0], evaluation.height_rmse[1]);
-    std::printf("\r%-14s %6zu %7zu | %26.3f %12.3f %7.3f %6.2f | %18s %12s %8s\n", name.c_str(), evaluation.scans,
+    std::printf("%-14s %6zu %7zu | %26.3f %12.3f %7.3f %6.2f | %18s %12s %8s\n", name.c_str(), evaluation.scans,
                 evaluation.matches_failed, evaluation.height_rmse[0], evaluation.height_rmse[1],
                 evaluation.height_rmse[2], evaluation.height_rmse[2] / best,
                 performance_text(evaluation.boxes[0]).c_str(), performance_text(evaluation.boxes[1]).c_str(),

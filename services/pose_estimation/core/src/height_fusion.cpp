@@ -135,17 +135,22 @@ void HeightFusion::normal_equations(const std::vector<Linear>& residuals, const 
   g = Eigen::VectorXd::Zero(n);
   const double cauchy = settings_.change_loss / settings_.change_sigma;
   for (const auto& residual : residuals) {
-    Eigen::VectorXd row = Eigen::VectorXd::Zero(n);
+    // A residual touches a few states: accumulate only their entries.
+    const size_t m = residual.states.size();
+    std::vector<long> at(m);
     double r = -residual.value;
-    for (size_t i = 0; i < residual.states.size(); ++i) {
-      row[index.at(residual.states[i])] += residual.coefficients[i] / residual.sigma;
+    for (size_t i = 0; i < m; ++i) {
+      at[i] = index.at(residual.states[i]);
       r += residual.coefficients[i] * states_.at(residual.states[i]);
     }
     r /= residual.sigma;
     double weight = 1.0;  // the loss's derivative at r^2, as Ceres weighs the residual
     if (residual.loss == Loss::Cauchy) weight = 1 / (1 + r * r / (cauchy * cauchy));
-    H += weight * row * row.transpose();
-    g += weight * row * r;
+    for (size_t i = 0; i < m; ++i) {
+      const double ji = residual.coefficients[i] / residual.sigma;
+      g[at[i]] += weight * ji * r;
+      for (size_t j = 0; j < m; ++j) H(at[i], at[j]) += weight * ji * residual.coefficients[j] / residual.sigma;
+    }
   }
 }
 

@@ -1,0 +1,158 @@
+// `scanbus cloud save` writes a cloud from the bus to PCD: the latest sample of a
+// PointCloud2 topic, or the cloud of a time window asked of cloud_assembly (the MAV
+// paper's laser_assembler client). `scanbus cloud render` draws a cloud file coloured by
+// height, from above or from the side, as the paper's figures show them.
+#include <unistd.h>
+
+#include <iostream>
+#include <mutex>
+#include <optional>
+
+#include "cloud_files.hpp"
+#include "commands.hpp"
+#include "scanbus/clock.hpp"
+#include "scanbus/messages.hpp"
+#include "scanbus/service.hpp"
+
+namespace scanbus::cli {
+
+namespace {
+
+struct SaveOptions {
+  DdsOptions dds;
+  std::string topic = "rt/cloud/assembled";
+  std::vector<double> window;  // begin, end (s since the epoch) for a request
+  std::string out;
+  double timeout = 10;
+};
+
+std::optional<sensor_msgs::msg::PointCloud2> latest_cloud(Participant& participant, const SaveOptions& options) {
+  std::mutex mutex;
+  std::optional<sensor_msgs::msg::PointCloud2> cloud;
+  Reader<sensor_msgs::msg::PointCloud2PubSubType> reader(participant, options.topic, [&](const auto& sample, const auto&) {
+    std::lock_guard<std::mutex> lock(mutex);
+    cloud = sample;
+    StopSignal::request();
+  });
+  StopSignal::wait_for(std::chrono::milliseconds(static_cast<long>(options.timeout * 1000)));
+  std::lock_guard<std::mutex> lock(mutex);
+  return cloud;
+}
+
+std::optional<sensor_msgs::msg::PointCloud2> window_cloud(Participant& participant, const SaveOptions& options,
+                                                          std::string& problem) {
+  const uint64_t id = static_cast<uint64_t>(getpid()) << 32 | static_cast<uint64_t>(time(nullptr) & 0xFFFFFFFF);
+  const std::string client = "scanbus/cloud/" + std::to_string(getpid());
+  std::mutex mutex;
+  std::optional<scanbus::msg::AssembleReply> reply;
+  Reader<scanbus::msg::AssembleReplyPubSubType> replies(participant, "rt/cloud/assemble_reply", [&](const auto& r, const auto&) {
+    if (r.request_id() != id || r.client() != client) return;
+    std::lock_guard<std::mutex> lock(mutex);
+    reply = r;
+    StopSignal::request();
+  });
+  Writer<scanbus::msg::AssembleRequestPubSubType> requests(participant, "rt/cloud/assemble_request");
+  const auto timeout = std::chrono::milliseconds(static_cast<long>(options.timeout * 1000));
+  // Both directions must be matched, or the reply could be sent before anyone listens.
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while ((requests.matched_readers() == 0 || replies.matched_writers() == 0) && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  if (requests.matched_readers() == 0 || replies.matched_writers() == 0) {
+    problem = "no cloud_assembly answers on rt/cloud/assemble_request";
+    return std::nullopt;
+  }
+  scanbus::msg::AssembleRequest request;
+  request.request_id(id);
+  request.client(client);
+  request.begin(to_stamp(options.window[0]));
+  request.end(to_stamp(options.window[1]));
+  requests.write(request);
+  StopSignal::wait_for(timeout);
+  std::lock_guard<std::mutex> lock(mutex);
+  if (!reply) {
+    problem = "no reply within the timeout";
+    return std::nullopt;
+  }
+  if (reply->status() == scanbus::msg::AssembleReply_Constants::BAD_REQUEST ||
+      reply->status() == scanbus::msg::AssembleReply_Constants::EMPTY) {
+    problem = "cloud_assembly: " + reply->message();
+    return std::nullopt;
+  }
+  return reply->cloud();
+}
+
+int run_save(const SaveOptions& options) {
+  StopSignal::install();
+  Participant participant(options.dds.settings(), "scanbus/cloud");
+  std::string problem = "no sample on " + options.topic + " within " + std::to_string(options.timeout) + " s";
+  const auto cloud = options.window.empty() ? latest_cloud(participant, options) : window_cloud(participant, options, problem);
+  if (!cloud) {
+    std::cerr << "scanbus cloud save: " << problem << "\n";
+    return 1;
+  }
+  std::vector<CloudPoint> points;
+  try {
+    points = from_point_cloud2(*cloud);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "scanbus cloud save: " << e.what() << "\n";
+    return 1;
+  }
+  write_pcd(options.out, points);
+  std::printf("wrote %s: %zu points, frame %s\n", options.out.c_str(), points.size(), cloud->header().frame_id().c_str());
+  return 0;
+}
+
+struct RenderOptions {
+  std::string cloud, out, view = "top", unit = "m", title;
+};
+
+int run_render(const RenderOptions& options) {
+  std::vector<Eigen::Vector3f> positions;
+  try {
+    positions = read_cloud(options.cloud, options.unit == "cm" ? 0.01 : options.unit == "mm" ? 0.001 : 1.0);
+  } catch (const CloudFileError& e) {
+    std::cerr << "scanbus cloud render: " << e.what() << "\n";
+    return 2;
+  }
+  std::vector<CloudPoint> points;
+  for (const auto& p : positions)
+    if (p.allFinite()) points.push_back({p, 0.0f});
+  if (points.empty()) {
+    std::cerr << "scanbus cloud render: " << options.cloud << ": no finite points\n";
+    return 2;
+  }
+  write_cloud_png(options.out, points, options.title.empty() ? options.cloud : options.title,
+                  options.view == "top" ? CloudView::Top : CloudView::Side, false);
+  std::printf("wrote %s: %zu points, %s view\n", options.out.c_str(), points.size(), options.view.c_str());
+  return 0;
+}
+
+}  // namespace
+
+void add_cloud_command(CLI::App& app, int& exit_code) {
+  auto* cloud = app.add_subcommand("cloud", "Clouds: save one from the bus, draw one coloured by height");
+  cloud->require_subcommand(1);
+
+  static SaveOptions save;
+  auto* saving = cloud->add_subcommand("save", "Write the latest cloud of a topic, or a time window's cloud asked of "
+                                       "cloud_assembly, to PCD");
+  saving->add_option("--out", save.out, "PCD file to write")->required();
+  saving->add_option("--topic", save.topic, "PointCloud2 topic (latest sample)");
+  saving->add_option("--window", save.window, "begin,end in s since the epoch: ask cloud_assembly for that window")
+      ->expected(2)
+      ->delimiter(',');
+  saving->add_option("--timeout", save.timeout, "Seconds to wait")->check(CLI::PositiveNumber);
+  add_dds_options(*saving, save.dds);
+  on_run(*saving, exit_code, [] { return run_save(save); });
+
+  static RenderOptions render;
+  auto* drawing = cloud->add_subcommand("render", "Draw a PCD, PLY or XYZ cloud coloured by height as PNG");
+  drawing->add_option("cloud", render.cloud, "Cloud file")->required()->check(CLI::ExistingFile);
+  drawing->add_option("--view", render.view, "top or side")->check(CLI::IsMember({"top", "side"}));
+  drawing->add_option("--out", render.out, "PNG file to write")->required();
+  drawing->add_option("--unit", render.unit, "Unit of the cloud's coordinates")->check(CLI::IsMember({"m", "cm", "mm"}));
+  drawing->add_option("--title", render.title, "Title above the picture (default: the file name)");
+  on_run(*drawing, exit_code, [] { return run_render(render); });
+}
+
+}  // namespace scanbus::cli

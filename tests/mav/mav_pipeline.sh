@@ -1,0 +1,95 @@
+#!/usr/bin/env bash
+# The MAV paper's pipeline over DDS, end to end: a simulated scenario IV flight (two boxes)
+# replayed by sensor_replay through scan_matcher, pose_estimation and cloud_assembly, each
+# its own process on the loopback profile. Asserts the issue's figures on what comes out
+# of the bus: the fused height's RMSE against the truth at most half of the better single
+# source (barometer alone, or the paper's barometer start plus scan-matcher changes,
+# both from 'scanbus eval mav' on the same log), and the boxes' P of at least 99 % in the
+# cloud assembled over the flight.
+set -uo pipefail
+source "$(dirname "$0")/../integration/lib.sh"
+scanbus=$1
+config=$2
+rate=${MAV_REPLAY_RATE:-4}
+work=$(mktemp -d)
+pids=()
+cleanup() {
+  for pid in "${pids[@]}"; do kill -TERM "$pid" 2> /dev/null; done
+  wait 2> /dev/null
+  rm -rf "$work"
+}
+trap cleanup EXIT
+failures=0
+fail() { echo "FAIL $*"; failures=$((failures + 1)); }
+
+"$scanbus" sim mav --scenario 4 --duration 180 --out "$work/flight.mavlog" || exit 1
+"$scanbus" eval mav --log "$work/flight.mavlog" --json > "$work/in_process.json" || exit 1
+
+printf 'sensor_replay:\n  log: %s\n  rate: %s\n  wait_for_readers: 2\n' "$work/flight.mavlog" "$rate" > "$work/replay.yaml"
+for service in scan_matcher pose_estimation cloud_assembly; do
+  file="$config/services/$service.yaml"
+  [ "$service" = scan_matcher ] && file="$config/mav/scan_matcher.yaml"
+  "$scanbus" run "$service" --config "$file" > "$work/$service.log" 2>&1 &
+  pids+=($!)
+done
+"$scanbus" echo rt/pose > "$work/poses.jsonl" 2> "$work/echo.log" &
+echo_pid=$!
+pids+=($echo_pid)
+sleep 2  # discovery of the services before the first record
+started=$(date +%s)
+"$scanbus" run sensor_replay --config "$work/replay.yaml" > "$work/replay.log" 2>&1 || { cat "$work/replay.log"; exit 1; }
+echo "replay of 180 s at ${rate}x took $(( $(date +%s) - started )) s"
+sleep 2  # the last poses and the last cloud
+kill -INT "$echo_pid"; wait "$echo_pid"
+"$scanbus" cloud save --out "$work/assembled.pcd" --timeout 10 || fail "no rt/cloud/assembled"
+"$scanbus" cloud save --window 1700000000,1700000180 --out "$work/window.pcd" --timeout 10 || fail "no assemble reply"
+"$scanbus" eval boxes "$work/window.pcd" --truth 0.4,0.6 --json > "$work/boxes_window.json"
+"$scanbus" eval boxes "$work/assembled.pcd" --truth 0.4,0.6 --json > "$work/boxes_assembled.json"
+"$scanbus" cloud render "$work/assembled.pcd" --view side --out "$work/side.png" > /dev/null || fail "render"
+
+python3 - "$work" <<'PY' || fail "figures"
+import json, math, sys
+work = sys.argv[1]
+truth = []
+scans = 0
+for line in open(f"{work}/flight.mavlog"):
+    if line.startswith("TRUTH"):
+        v = line.split()
+        truth.append((float(v[1]), float(v[4])))
+    scans += line.startswith("LASER")
+def true_height(t):
+    # truth at 100 Hz: linear between neighbours
+    i = min(max(int(round((t - truth[0][0]) * 100)), 1), len(truth) - 1)
+    while i < len(truth) - 1 and truth[i][0] < t: i += 1
+    while i > 1 and truth[i - 1][0] > t: i -= 1
+    (t0, h0), (t1, h1) = truth[i - 1], truth[i]
+    return h0 + (h1 - h0) * (t - t0) / (t1 - t0) if t1 > t0 else h0
+poses = [json.loads(l) for l in open(f"{work}/poses.jsonl")]
+errors = []
+for p in poses:
+    stamp = p["header"]["stamp"]["sec"] + p["header"]["stamp"]["nanosec"] * 1e-9
+    errors.append(p["pose"]["pose"]["position"]["z"] - true_height(stamp))
+rmse = math.sqrt(sum(e * e for e in errors) / len(errors))
+reference = json.load(open(f"{work}/in_process.json"))[0]
+base = reference["height_rmse_m"]
+best = min(base["barometer"], base["scan_matcher"])
+window = json.load(open(f"{work}/boxes_window.json"))
+assembled = json.load(open(f"{work}/boxes_assembled.json"))
+print(f"poses over DDS: {len(poses)} of {scans} scans; fused height RMSE {rmse:.3f} m "
+      f"(in one process {base['fused']:.3f}); barometer {base['barometer']:.3f}, scan matcher {base['scan_matcher']:.3f}")
+print(f"boxes P: window {window.get('performance_percent', 'none')} %, continuous cloud "
+      f"{assembled.get('performance_percent', 'none')} % (in one process {reference['boxes']['fused'].get('performance_percent')} %)")
+assert len(poses) >= 0.98 * scans, "poses lost on the way"
+assert rmse <= 0.5 * best, "fused height not at most half of the better single source"
+assert window["ok"] and window["performance_percent"] >= 99.0, window
+PY
+
+for i in "${!pids[@]}"; do
+  pid=${pids[$i]}
+  [ "$pid" = "$echo_pid" ] && continue
+  kill -0 "$pid" 2> /dev/null || { fail "a service died early"; continue; }
+  expect_clean_stop "service $pid" "$pid" TERM "$work/scan_matcher.log" || failures=$((failures + 1))
+done
+pids=()
+[ "$failures" -eq 0 ] && echo "mav pipeline: ok"
+[ "$failures" -eq 0 ]
