@@ -165,11 +165,22 @@ BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double t
     result.message = "no ground plane found";
     return result;
   }
+  // A cloud built over several passes has a ground as thick as the heights' errors between
+  // passes: objects start above that (four robust sigmas of the ground's heights).
+  std::vector<double> near_ground;
+  for (const auto& p : *centred) {
+    const double height = plane.dot(Eigen::Vector4d(p.x, p.y, p.z, 1));
+    if (std::abs(height) < 2 * settings.min_height) near_ground.push_back(std::abs(height));
+  }
+  const auto middle = near_ground.begin() + static_cast<long>(near_ground.size() / 2);
+  std::nth_element(near_ground.begin(), middle, near_ground.end());
+  result.ground_sigma = near_ground.empty() ? 0 : 1.4826 * *middle;
+  const double min_height = std::max(settings.min_height, 4 * result.ground_sigma);
   pcl::PointCloud<pcl::PointXYZ>::Ptr above(new pcl::PointCloud<pcl::PointXYZ>);
   std::vector<double> heights;
   for (const auto& p : *centred) {
     const double height = plane.dot(Eigen::Vector4d(p.x, p.y, p.z, 1));
-    if (height > settings.min_height) {
+    if (height > min_height) {
       above->push_back(p);
       heights.push_back(height);
     } else if (std::abs(height) <= settings.ground_threshold) {

@@ -14,7 +14,8 @@ namespace scanbus::ground_evaluation {
 struct BoxSearchSettings {
   size_t boxes = 2;                 // how many boxes stand there (the paper: two)
   double ground_threshold = 0.05;   // m: RANSAC inlier distance of the ground plane
-  double min_height = 0.1;          // m above the ground: lower points belong to the ground
+  double min_height = 0.1;          // m above the ground: lower points belong to the ground (raised
+                                    // to four sigmas of the ground's own spread when that is more)
   double cluster_tolerance = 0.05;  // m between neighbouring points of one box
   size_t min_cluster_points = 30;
   double top_fraction = 0.9;        // a box's footprint is drawn from its points above this share of
@@ -37,6 +38,7 @@ struct BoxEvaluation {
   std::vector<BoxMeasurement> boxes;  // largest first
   double mean_performance_percent = 0;
   size_t ground_points = 0;
+  double ground_sigma = 0;  // m, robust spread of the ground's heights about its plane
 };
 
 // `truth_width` and `truth_length` are the boxes' true footprint (any order: width is the
