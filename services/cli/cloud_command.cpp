@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "cloud_files.hpp"
+#include "cloud_request.hpp"
 #include "commands.hpp"
 #include "scanbus/clock.hpp"
 #include "scanbus/messages.hpp"
@@ -39,53 +40,13 @@ std::optional<sensor_msgs::msg::PointCloud2> latest_cloud(Participant& participa
   return cloud;
 }
 
-std::optional<sensor_msgs::msg::PointCloud2> window_cloud(Participant& participant, const SaveOptions& options,
-                                                          std::string& problem) {
-  const uint64_t id = static_cast<uint64_t>(getpid()) << 32 | static_cast<uint64_t>(time(nullptr) & 0xFFFFFFFF);
-  const std::string client = "scanbus/cloud/" + std::to_string(getpid());
-  std::mutex mutex;
-  std::optional<scanbus::msg::AssembleReply> reply;
-  Reader<scanbus::msg::AssembleReplyPubSubType> replies(participant, "rt/cloud/assemble_reply", [&](const auto& r, const auto&) {
-    if (r.request_id() != id || r.client() != client) return;
-    std::lock_guard<std::mutex> lock(mutex);
-    reply = r;
-    StopSignal::request();
-  });
-  Writer<scanbus::msg::AssembleRequestPubSubType> requests(participant, "rt/cloud/assemble_request");
-  const auto timeout = std::chrono::milliseconds(static_cast<long>(options.timeout * 1000));
-  // Both directions must be matched, or the reply could be sent before anyone listens.
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while ((requests.matched_readers() == 0 || replies.matched_writers() == 0) && std::chrono::steady_clock::now() < deadline)
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  if (requests.matched_readers() == 0 || replies.matched_writers() == 0) {
-    problem = "no cloud_assembly answers on rt/cloud/assemble_request";
-    return std::nullopt;
-  }
-  scanbus::msg::AssembleRequest request;
-  request.request_id(id);
-  request.client(client);
-  request.begin(to_stamp(options.window[0]));
-  request.end(to_stamp(options.window[1]));
-  requests.write(request);
-  StopSignal::wait_for(timeout);
-  std::lock_guard<std::mutex> lock(mutex);
-  if (!reply) {
-    problem = "no reply within the timeout";
-    return std::nullopt;
-  }
-  if (reply->status() == scanbus::msg::AssembleReply_Constants::BAD_REQUEST ||
-      reply->status() == scanbus::msg::AssembleReply_Constants::EMPTY) {
-    problem = "cloud_assembly: " + reply->message();
-    return std::nullopt;
-  }
-  return reply->cloud();
-}
-
 int run_save(const SaveOptions& options) {
   StopSignal::install();
   Participant participant(options.dds.settings(), "scanbus/cloud");
   std::string problem = "no sample on " + options.topic + " within " + std::to_string(options.timeout) + " s";
-  const auto cloud = options.window.empty() ? latest_cloud(participant, options) : window_cloud(participant, options, problem);
+  const auto cloud = options.window.empty()
+                         ? latest_cloud(participant, options)
+                         : request_window_cloud(participant, options.window[0], options.window[1], options.timeout, problem);
   if (!cloud) {
     std::cerr << "scanbus cloud save: " << problem << "\n";
     return 1;

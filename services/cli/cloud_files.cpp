@@ -119,12 +119,15 @@ void write_cloud_png(const std::string& path, const std::vector<CloudPoint>& poi
   if (points.empty()) throw std::runtime_error(path + ": no points to draw");
   // Robust extent: a few far returns (through doors, windows) must not shrink the picture.
   Eigen::Vector3f low, high;
+  double colour_low = 0, colour_high = 0;
   for (int axis = 0; axis < 3; ++axis) {
     std::vector<float> values;
     for (const auto& point : points) values.push_back(point.position[axis]);
     std::sort(values.begin(), values.end());
     low[axis] = values[values.size() * 2 / 100] - 0.5f;
     high[axis] = values[values.size() * 98 / 100] + 0.5f;
+    // Colours span nearly all heights: small raised things (boxes on a field) must show.
+    if (axis == 2) colour_low = values[values.size() / 100], colour_high = values[values.size() * 999 / 1000];
   }
   // Picture axes: x right; y (top view) or z (side view, looking along +y) up.
   const bool top = view == CloudView::Top;
@@ -162,7 +165,7 @@ void write_cloud_png(const std::string& path, const std::vector<CloudPoint>& poi
   cairo_rectangle(cr, margin, margin, width - 2 * margin, height - 2 * margin);
   cairo_clip(cr);
   for (const CloudPoint* point : order) {
-    const uint32_t colour = cloud_assembly::height_colour(point->position.z(), low.z() + 0.5, high.z() - 0.5);
+    const uint32_t colour = cloud_assembly::height_colour(point->position.z(), colour_low, colour_high);
     cairo_set_source_rgb(cr, (colour >> 16) / 255.0, ((colour >> 8) & 0xFF) / 255.0, (colour & 0xFF) / 255.0);
     cairo_arc(cr, px(point->position.x()), py(point->position[up]), 1.6, 0, 2 * M_PI);
     cairo_fill(cr);

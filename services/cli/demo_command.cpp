@@ -10,6 +10,7 @@
 #include "cloud_files.hpp"
 #include "commands.hpp"
 #include "floor_plan.hpp"
+#include "mav_flight.hpp"
 #include "room_report.hpp"
 #include "room_scan.hpp"
 
@@ -22,7 +23,30 @@ struct DemoOptions {
   std::string out = "out";
   bool json = false;
   double speed = 40;
+  double mav_rate = 8;
+  bool mav = true;
 };
+
+// The MAV paper's scenario IV through the services: poses and cloud back over DDS.
+MavFlightResult fly_mav(const DemoOptions& options) {
+  MavFlightOptions flight;
+  flight.dds = options.dds;
+  flight.rate = options.mav_rate;
+  flight.work_dir = options.out + "/mav";
+  flight.progress = !options.json && isatty(STDOUT_FILENO);
+  return run_mav_flight(flight);
+}
+
+nlohmann::json mav_json(const MavFlightResult& mav, const std::vector<std::string>& files) {
+  nlohmann::json json{{"scans", mav.scans},
+                      {"poses", mav.poses},
+                      {"height_rmse_m", {{"fused", mav.fused_rmse}, {"barometer", mav.barometer_rmse}}},
+                      {"boxes_ok", mav.boxes.ok},
+                      {"files", files}};
+  if (mav.boxes.ok) json["boxes_performance_percent"] = mav.boxes.mean_performance_percent;
+  else json["boxes_message"] = mav.boxes.message;
+  return json;
+}
 
 int run_demo(const DemoOptions& options) {
   std::filesystem::create_directories(options.out);
@@ -49,29 +73,59 @@ int run_demo(const DemoOptions& options) {
   std::vector<Eigen::Vector3f> background;
   for (const auto& point : result.points) background.push_back(point.position);
   write_floor_plan(plan, room, "scanbus demo: built-in room (thesis case 1, 5.47 m x 3.48 m)", background);
-  if (options.json) {
-    std::cout << nlohmann::json{{"points", result.points.size()},
-                                {"revolutions", result.revolutions},
-                                {"extent_min", {low.x(), low.y(), low.z()}},
-                                {"extent_max", {high.x(), high.y(), high.z()}},
-                                {"room", room_json(room)},
-                                {"files", {pcd, png, plan}}}
-              << "\n";
-  } else {
+  if (!options.json) {
     std::printf("scan of the built-in room: %zu points from %u revolutions\n", result.points.size(), result.revolutions);
     std::printf("%s", room_text(room).c_str());
     std::printf("wrote %s, %s and %s\n", pcd.c_str(), png.c_str(), plan.c_str());
   }
-  return room.status == room_measurement::RoomStatus::Ok ? 0 : 1;
+  nlohmann::json json{{"points", result.points.size()},
+                      {"revolutions", result.revolutions},
+                      {"extent_min", {low.x(), low.y(), low.z()}},
+                      {"extent_max", {high.x(), high.y(), high.z()}},
+                      {"room", room_json(room)},
+                      {"files", {pcd, png, plan}}};
+  bool mav_ok = true;
+  if (options.mav) {
+    const MavFlightResult mav = fly_mav(options);
+    std::vector<CloudPoint> points;
+    for (const auto& p : mav.cloud) points.push_back({p, 0.0f});
+    const std::string mav_pcd = options.out + "/mav_cloud.pcd", top = options.out + "/mav_top.png",
+                      side = options.out + "/mav_side.png";
+    write_pcd(mav_pcd, points);
+    const std::string title = "scanbus demo: MAV scenario IV, ground cloud from the fused poses";
+    write_cloud_png(top, points, title, CloudView::Top, false);
+    write_cloud_png(side, points, title, CloudView::Side, false);
+    mav_ok = mav.boxes.ok;
+    json["mav"] = mav_json(mav, {mav_pcd, top, side});
+    if (!options.json) {
+      std::printf("MAV scenario IV (two %.1f x %.1f x %.1f m boxes), %.0f s replayed at %gx through the services: %zu poses of %zu scans\n",
+                  mav.box_size.x(), mav.box_size.y(), mav.box_size.z(), mav.scans / 30.0, options.mav_rate, mav.poses, mav.scans);
+      std::printf("height RMSE against the truth: fused %.3f m, barometer alone %.3f m\n", mav.fused_rmse, mav.barometer_rmse);
+      if (mav.boxes.ok) {
+        for (const auto& box : mav.boxes.boxes)
+          std::printf("box at (%.2f, %.2f): %.3f x %.3f m\n", box.centre.x(), box.centre.y(), box.length, box.width);
+        std::printf("boxes P = %.2f %% (the paper: 71.54 %% without, 91.56 %% with its scan matcher)\n",
+                    mav.boxes.mean_performance_percent);
+      } else {
+        std::printf("boxes not measured: %s\n", mav.boxes.message.c_str());
+      }
+      std::printf("wrote %s, %s and %s\n", mav_pcd.c_str(), top.c_str(), side.c_str());
+    }
+  }
+  if (options.json) std::cout << json << "\n";
+  return room.status == room_measurement::RoomStatus::Ok && mav_ok ? 0 : 1;
 }
 
 }  // namespace
 
 void add_demo_command(CLI::App& app, int& exit_code) {
   static DemoOptions options;
-  auto* command = app.add_subcommand("demo", "Scan the built-in room through the services and write the result");
+  auto* command = app.add_subcommand("demo", "Scan the built-in room and fly the MAV's scenario IV through the services; "
+                                     "write the results");
   command->add_option("--out", options.out, "Folder for the cloud, the picture and the processes' logs");
   command->add_option("--speed", options.speed, "Simulated scanner's speed, times real time")->check(CLI::Range(0.01, 1000.0));
+  command->add_option("--mav-rate", options.mav_rate, "MAV flight's replay, times real time")->check(CLI::Range(0.1, 100.0));
+  command->add_flag("!--no-mav", options.mav, "Only the room, not the MAV flight");
   command->add_flag("--json", options.json, "Print the result as one JSON object, no progress");
   add_dds_options(*command, options.dds);
   on_run(*command, exit_code, [] { return run_demo(options); });

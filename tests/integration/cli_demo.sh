@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The main job end to end, and the CLI against a running service: `scanbus demo` runs
-# scanner_io as its own process and writes a plausible cloud; `scanbus health --check`,
+# the room's and the MAV's services as their own processes and writes plausible results; `scanbus health --check`,
 # `scanbus echo` and `scanbus topics` see the running service.
 set -euo pipefail
 source "$(dirname "$0")/lib.sh"
@@ -26,6 +26,15 @@ for got, want in zip(lengths, [3.48, 3.48, 5.47, 5.47]):
 assert abs(room["area_m2"] - 5.47 * 3.48) < 0.01 * 5.47 * 3.48, room["area_m2"]
 assert abs(room["ceiling_height_m"] - 2.5) < 0.05, room["ceiling_height_m"]
 print("demo room:", [round(l, 3) for l in lengths], "area", round(room["area_m2"], 2))
+mav = result["mav"]
+# Scenario IV through the services: every scan's pose, the fused height well under the
+# barometer's, the boxes at the issue's target.
+assert mav["poses"] >= 0.98 * mav["scans"], mav
+assert mav["height_rmse_m"]["fused"] < 0.5 * mav["height_rmse_m"]["barometer"], mav
+assert mav["boxes_ok"] and mav["boxes_performance_percent"] >= 99.0, mav
+print("demo MAV: fused height RMSE", round(mav["height_rmse_m"]["fused"], 3), "m, boxes P",
+      round(mav["boxes_performance_percent"], 2), "%")
+result["files"] += mav["files"]
 for path in result["files"]:
     with open(path, "rb") as f:
         head = f.read(8)

@@ -1,0 +1,143 @@
+#include "mav_flight.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <optional>
+
+#include "cloud_request.hpp"
+#include "scanbus/atmosphere.hpp"
+#include "scanbus/child_process.hpp"
+#include "scanbus/clock.hpp"
+#include "scanbus/ground_evaluation/flight_evaluation.hpp"
+#include "scanbus/messages.hpp"
+#include "scanbus/mav_sim/flight.hpp"
+#include "scanbus/point_cloud.hpp"
+#include "scanbus/service.hpp"
+
+namespace scanbus::cli {
+
+namespace {
+
+void check_alive(ChildProcess& child) {
+  if (auto status = child.exited())
+    throw std::runtime_error(child.name() + " exited early with status " + std::to_string(*status) + " (see " +
+                             child.log_path() + ")");
+}
+
+// The services' configs for this flight: the matcher as 'scanbus eval mav' runs it, the
+// pose estimator on the log's origin and laser mount.
+void write_configs(const std::string& dir, const sensor_replay::MavLog& log, const std::string& log_path, double rate) {
+  const auto matcher = ground_evaluation::mav_matcher_settings();
+  std::ofstream(dir + "/scan_matcher.yaml") << "scan_matcher:\n  matcher:\n    opening: " << matcher.opening * 180 / M_PI
+                                            << "\n    max_correspondence: " << matcher.max_correspondence << "\n";
+  const auto& origin = log.meta_of("origin", 3);
+  const auto& mount = log.meta_of("laser_mount", 6);
+  std::ofstream pose(dir + "/pose_estimation.yaml");
+  pose.precision(10);
+  pose << "pose_estimation:\n  origin: [" << origin[0] << ", " << origin[1] << ", " << origin[2] << "]\n"
+       << "  laser_mount:\n    xyz: [" << mount[0] << ", " << mount[1] << ", " << mount[2] << "]\n    rpy: ["
+       << mount[3] * 180 / M_PI << ", " << mount[4] * 180 / M_PI << ", " << mount[5] * 180 / M_PI << "]\n";
+  std::ofstream(dir + "/cloud_assembly.yaml") << "cloud_assembly: {}\n";
+  std::ofstream(dir + "/sensor_replay.yaml") << "sensor_replay:\n  log: " << log_path << "\n  rate: " << rate
+                                             << "\n  wait_for_readers: 2\n";
+}
+
+double height_at(const std::vector<sensor_replay::TruthRecord>& truth, double stamp) {
+  const auto later = std::lower_bound(truth.begin(), truth.end(), stamp,
+                                      [](const auto& record, double t) { return record.stamp < t; });
+  if (later == truth.begin()) return later->position.z();
+  if (later == truth.end()) return truth.back().position.z();
+  const auto& before = *std::prev(later);
+  const double weight = (stamp - before.stamp) / (later->stamp - before.stamp);
+  return (1 - weight) * before.position.z() + weight * later->position.z();
+}
+
+}  // namespace
+
+MavFlightResult run_mav_flight(const MavFlightOptions& options) {
+  StopSignal::install();
+  std::filesystem::create_directories(options.work_dir);
+  mav_sim::FlightSettings settings;
+  settings.scenario = options.scenario;
+  settings.duration = options.duration;
+  const sensor_replay::MavLog log = mav_sim::simulate_flight(settings);
+  const std::string log_path = options.work_dir + "/flight.mavlog";
+  sensor_replay::write_mav_log(log_path, log);
+  write_configs(options.work_dir, log, log_path, options.rate);
+  setenv("SCANBUS_DOMAIN_ID", std::to_string(options.dds.domain).c_str(), 1);
+  if (!options.dds.profile_file.empty()) setenv("SCANBUS_DDS_PROFILE_FILE", options.dds.profile_file.c_str(), 1);
+
+  Participant participant(options.dds.settings(), "scanbus/demo");
+  std::mutex mutex;
+  std::vector<std::pair<double, double>> heights;  // stamp, fused height
+  Reader<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType> poses(
+      participant, "rt/pose", QosSettings{true, false, false, 1000}, [&](const auto& pose, const auto&) {
+        std::lock_guard<std::mutex> lock(mutex);
+        heights.emplace_back(to_seconds(pose.header().stamp()), pose.pose().pose().position().z());
+      });
+  std::vector<std::unique_ptr<ChildProcess>> services;
+  for (const char* name : {"scan_matcher", "pose_estimation", "cloud_assembly"}) {
+    services.push_back(std::make_unique<ChildProcess>(
+        own_executable(), std::vector<std::string>{"run", name, "--config", options.work_dir + "/" + name + ".yaml"},
+        options.work_dir + "/" + name + ".log"));
+  }
+  const auto check_services = [&] {
+    for (auto& service : services) check_alive(*service);
+  };
+  const auto discovery_deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (poses.matched_writers() == 0) {
+    check_services();
+    if (std::chrono::steady_clock::now() > discovery_deadline) throw std::runtime_error("pose_estimation did not appear on DDS within 20 s");
+    if (StopSignal::wait_for(std::chrono::milliseconds(20))) throw std::runtime_error("interrupted");
+  }
+  ChildProcess replay(own_executable(), {"run", "sensor_replay", "--config", options.work_dir + "/sensor_replay.yaml"},
+                      options.work_dir + "/sensor_replay.log");
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.timeout);
+  std::optional<std::chrono::steady_clock::time_point> ended;
+  while (true) {
+    if (StopSignal::wait_for(std::chrono::milliseconds(200))) throw std::runtime_error("interrupted");
+    check_services();
+    if (std::chrono::steady_clock::now() > deadline) throw std::runtime_error("the flight's replay did not end in time");
+    size_t received;
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      received = heights.size();
+    }
+    if (options.progress) std::printf("\rMAV flight: pose %zu of %zu", received, log.lasers.size()), std::fflush(stdout);
+    if (auto status = replay.exited()) {
+      if (*status != 0) throw std::runtime_error("sensor_replay exited with status " + std::to_string(*status) + " (see " + replay.log_path() + ")");
+      if (!ended) ended = std::chrono::steady_clock::now();
+      // The last poses may still be on their way.
+      if (received >= log.lasers.size() || std::chrono::steady_clock::now() - *ended > std::chrono::seconds(2)) break;
+    }
+  }
+  if (options.progress) std::printf("\n");
+  std::string problem;
+  const auto cloud = request_window_cloud(participant, log.lasers.front().stamp, log.lasers.back().stamp, 30, problem);
+  if (!cloud) throw std::runtime_error("the flight's cloud: " + problem);
+
+  MavFlightResult result;
+  result.scans = log.lasers.size();
+  std::lock_guard<std::mutex> lock(mutex);
+  result.poses = heights.size();
+  double squared = 0;
+  for (const auto& [stamp, height] : heights) squared += std::pow(height - height_at(log.truths, stamp), 2);
+  result.fused_rmse = heights.empty() ? NAN : std::sqrt(squared / static_cast<double>(heights.size()));
+  const double origin_altitude = log.meta_of("origin", 3)[2];
+  squared = 0;
+  for (const auto& baro : log.baros)
+    squared += std::pow(altitude_at_pressure(baro.pressure) - origin_altitude - height_at(log.truths, baro.stamp), 2);
+  result.barometer_rmse = std::sqrt(squared / static_cast<double>(log.baros.size()));
+  for (const auto& point : from_point_cloud2(*cloud)) result.cloud.push_back(point.position);
+  if (const auto box = log.meta.find("boxes"); box != log.meta.end() && box->second.size() == 3) {
+    result.box_size = Eigen::Vector3d(box->second[0], box->second[1], box->second[2]);
+    result.boxes = ground_evaluation::evaluate_boxes(result.cloud, result.box_size.y(), result.box_size.x());
+  }
+  return result;
+}
+
+}  // namespace scanbus::cli
