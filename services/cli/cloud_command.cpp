@@ -70,7 +70,7 @@ struct RenderOptions {
 int run_render(const RenderOptions& options) {
   std::vector<Eigen::Vector3f> positions;
   try {
-    positions = read_cloud(options.cloud, options.unit == "cm" ? 0.01 : options.unit == "mm" ? 0.001 : 1.0);
+    positions = read_cloud(options.cloud, metres_per_unit(options.unit));
   } catch (const CloudFileError& e) {
     std::cerr << "scanbus cloud render: " << e.what() << "\n";
     return 2;

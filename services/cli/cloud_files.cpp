@@ -114,6 +114,13 @@ void write_pcd(const std::string& path, const std::vector<CloudPoint>& points) {
 }
 
 
+double metres_per_unit(const std::string& unit) {
+  if (unit == "mm") return 0.001;
+  if (unit == "cm") return 0.01;
+  if (unit == "m") return 1.0;
+  throw std::invalid_argument("unknown unit '" + unit + "' (m, cm or mm)");
+}
+
 void write_cloud_png(const std::string& path, const std::vector<CloudPoint>& points, const std::string& title,
                      CloudView view, bool mark_origin) {
   if (points.empty()) throw std::runtime_error(path + ": no points to draw");

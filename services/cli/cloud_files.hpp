@@ -21,6 +21,8 @@ class CloudFileError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 std::vector<Eigen::Vector3f> read_cloud(const std::string& path, double scale);
+// Metres per unit of a cloud file's coordinates: "m", "cm" or "mm" (the --unit options).
+double metres_per_unit(const std::string& unit);
 
 // The cloud from above (x right, y up) or from the side (x right, z up), points coloured by
 // height, 1 m grid, optionally the origin marked as the scanner. Throws on failure.

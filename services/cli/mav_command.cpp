@@ -192,7 +192,7 @@ struct EvalBoxesOptions {
 int run_eval_boxes(const EvalBoxesOptions& options) {
   std::vector<Eigen::Vector3f> cloud;
   try {
-    cloud = read_cloud(options.cloud, options.unit == "cm" ? 0.01 : options.unit == "mm" ? 0.001 : 1.0);
+    cloud = read_cloud(options.cloud, metres_per_unit(options.unit));
   } catch (const CloudFileError& e) {
     std::cerr << "scanbus eval boxes: " << e.what() << "\n";
     return 2;

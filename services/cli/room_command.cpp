@@ -31,7 +31,7 @@ int run_measure(const RoomOptions& options) {
     std::cerr << "scanbus room measure: config error: " << e.what() << "\n";
     return 2;
   }
-  const double scale = options.unit == "mm" ? 0.001 : options.unit == "cm" ? 0.01 : 1.0;
+  const double scale = metres_per_unit(options.unit);
   room_measurement::RoomResult room;
   try {
     room = room_measurement::measure_room(read_cloud(options.file, scale), settings);

@@ -30,21 +30,28 @@ int float_offset(const sensor_msgs::msg::PointCloud2& cloud, const std::string& 
   return -1;
 }
 
-}  // namespace
-
-sensor_msgs::msg::PointCloud2 to_point_cloud2(const std::vector<CloudPoint>& points, const std::string& frame_id,
-                                              const builtin_interfaces::msg::Time& stamp) {
+// An unorganised cloud of `count` points x y z and one more float32 field, data allocated.
+sensor_msgs::msg::PointCloud2 sized_cloud(const char* fourth_field, size_t count, const std::string& frame_id,
+                                         const builtin_interfaces::msg::Time& stamp) {
   sensor_msgs::msg::PointCloud2 cloud;
   cloud.header().frame_id(frame_id);
   cloud.header().stamp(stamp);
-  cloud.fields({float_field("x", 0), float_field("y", 4), float_field("z", 8), float_field("intensity", 12)});
+  cloud.fields({float_field("x", 0), float_field("y", 4), float_field("z", 8), float_field(fourth_field, 12)});
   cloud.height(1);
-  cloud.width(static_cast<uint32_t>(points.size()));
+  cloud.width(static_cast<uint32_t>(count));
   cloud.is_bigendian(false);
   cloud.point_step(kPointStep);
   cloud.row_step(kPointStep * cloud.width());
   cloud.is_dense(true);
-  cloud.data().resize(points.size() * kPointStep);
+  cloud.data().resize(count * kPointStep);
+  return cloud;
+}
+
+}  // namespace
+
+sensor_msgs::msg::PointCloud2 to_point_cloud2(const std::vector<CloudPoint>& points, const std::string& frame_id,
+                                              const builtin_interfaces::msg::Time& stamp) {
+  sensor_msgs::msg::PointCloud2 cloud = sized_cloud("intensity", points.size(), frame_id, stamp);
   uint8_t* out = cloud.data().data();
   for (const auto& point : points) {
     const float values[4] = {point.position.x(), point.position.y(), point.position.z(), point.intensity};
@@ -58,17 +65,7 @@ sensor_msgs::msg::PointCloud2 to_coloured_point_cloud2(const std::vector<Eigen::
                                                        const std::vector<uint32_t>& colours, const std::string& frame_id,
                                                        const builtin_interfaces::msg::Time& stamp) {
   if (colours.size() != points.size()) throw std::invalid_argument("one colour per point is needed");
-  sensor_msgs::msg::PointCloud2 cloud;
-  cloud.header().frame_id(frame_id);
-  cloud.header().stamp(stamp);
-  cloud.fields({float_field("x", 0), float_field("y", 4), float_field("z", 8), float_field("rgb", 12)});
-  cloud.height(1);
-  cloud.width(static_cast<uint32_t>(points.size()));
-  cloud.is_bigendian(false);
-  cloud.point_step(kPointStep);
-  cloud.row_step(kPointStep * cloud.width());
-  cloud.is_dense(true);
-  cloud.data().resize(points.size() * kPointStep);
+  sensor_msgs::msg::PointCloud2 cloud = sized_cloud("rgb", points.size(), frame_id, stamp);
   uint8_t* out = cloud.data().data();
   for (size_t i = 0; i < points.size(); ++i) {
     std::memcpy(out, points[i].data(), 12);

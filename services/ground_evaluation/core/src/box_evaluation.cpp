@@ -18,22 +18,29 @@ namespace {
 // Negative log-likelihood of positions spread evenly over [a, b] and blurred by Gaussian
 // noise of sigma = exp(log_sigma): each point's density is
 // (Phi((x - a) / sigma) - Phi((x - b) / sigma)) / (b - a).
+// Negative log-likelihood of positions spread evenly over [a, b] and blurred by Gaussian
+// noise of sigma = exp(log_sigma), with a share w = (1 + tanh(p / 2)) / 2 of stray points spread
+// evenly over the whole span of the data (a pass whose pose was off, an edge of the ground
+// that joined the cluster): each point's density is
+// (1 - w) (Phi((x - a) / sigma) - Phi((x - b) / sigma)) / (b - a) + w / span.
 struct BlurredSpread {
-  explicit BlurredSpread(std::vector<double> along) : along(std::move(along)) {}
+  BlurredSpread(std::vector<double> along, double span) : along(std::move(along)), span(span) {}
   template <typename T>
   bool operator()(const T* parameters, T* cost) const {
     const T a = parameters[0], b = parameters[1], sigma = exp(parameters[2]);
+    const T stray = T(0.5) * (T(1) + tanh(parameters[3] / T(2)));  // tanh: no overflow as w -> 0
     if (!(b > a)) return false;
     const T scale = T(1) / (sigma * T(std::sqrt(2.0)));
     cost[0] = T(0);
     for (double x : along) {
       const T mass = T(0.5) * (erf((T(x) - a) * scale) - erf((T(x) - b) * scale));
-      cost[0] -= log(mass + T(1e-12));
+      cost[0] -= log((T(1) - stray) * mass / (b - a) + stray / T(span) + T(1e-12));
     }
-    cost[0] += T(static_cast<double>(along.size())) * log(b - a);
-    return true;
+    using std::isfinite;  // and ceres::isfinite for Jets, found by argument
+    return isfinite(cost[0]);  // a non-finite value or gradient: the line search steps back
   }
   std::vector<double> along;
+  double span;
 };
 
 // The sides of the points along `axis`, as (low, high). Where the points stop is blurred
@@ -47,10 +54,11 @@ Extent extent(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d&
   std::vector<double> along(points.size());
   for (size_t i = 0; i < points.size(); ++i) along[i] = points[i].dot(axis);
   const auto [low, high] = std::minmax_element(along.begin(), along.end());
-  double parameters[3] = {*low, *high, std::log(noise_guess)};
   if (!(*high > *low)) return {*low, *high, INFINITY};
+  const double span = *high - *low + 2 * noise_guess;
+  double parameters[4] = {*low, *high, std::log(noise_guess), -4.0};  // 2 % strays to start
   ceres::GradientProblem problem(
-      new ceres::AutoDiffFirstOrderFunction<BlurredSpread, 3>(new BlurredSpread(std::move(along))));
+      new ceres::AutoDiffFirstOrderFunction<BlurredSpread, 4>(new BlurredSpread(std::move(along), span)));
   ceres::GradientProblemSolver::Options options;
   options.max_num_iterations = 100;
   options.logging_type = ceres::SILENT;
