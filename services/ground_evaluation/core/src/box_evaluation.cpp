@@ -1,6 +1,7 @@
 #include "scanbus/ground_evaluation/box_evaluation.hpp"
 
 #include <ceres/ceres.h>
+#include <Eigen/Eigenvalues>
 #include <pcl/ModelCoefficients.h>
 #include <pcl/point_types.h>
 #include <pcl/search/kdtree.h>
@@ -214,6 +215,30 @@ BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double t
   // The plane's own axes, so footprints are measured in the ground.
   const Eigen::Vector3d normal = plane.head<3>();
   const Eigen::Vector3d e1 = normal.unitOrthogonal(), e2 = normal.cross(e1);
+  // The boxes are the objects whose size on the ground is nearest the boxes' known
+  // footprint: a ridge of ground where the MAV hovered with a wrong height, or a pile of
+  // stray returns, may be larger, but is not box-sized. (Only the size is compared: the
+  // width/length ratio P measures is left free.)
+  const auto size_mismatch = [&](const pcl::PointIndices& cluster) {
+    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (int index : cluster.indices) {
+      const auto& p = (*above)[static_cast<size_t>(index)];
+      mean += Eigen::Vector2d(Eigen::Vector3d(p.x, p.y, p.z).dot(e1), Eigen::Vector3d(p.x, p.y, p.z).dot(e2));
+    }
+    mean /= static_cast<double>(cluster.indices.size());
+    for (int index : cluster.indices) {
+      const auto& p = (*above)[static_cast<size_t>(index)];
+      const Eigen::Vector2d d(Eigen::Vector3d(p.x, p.y, p.z).dot(e1) - mean.x(), Eigen::Vector3d(p.x, p.y, p.z).dot(e2) - mean.y());
+      scatter += d * d.transpose();
+    }
+    scatter /= static_cast<double>(cluster.indices.size());
+    // An even spread over a w x l rectangle has variances w^2/12 and l^2/12.
+    const Eigen::Vector2d variances = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(scatter).eigenvalues().cwiseMax(1e-12);
+    const double area = 12 * std::sqrt(variances.x() * variances.y());
+    return std::abs(std::log(area / (truth_width * truth_length)));
+  };
+  std::stable_sort(clusters.begin(), clusters.end(), [&](const auto& a, const auto& b) { return size_mismatch(a) < size_mismatch(b); });
   double total = 0;
   for (size_t c = 0; c < settings.boxes; ++c) {
     // The top's height: most of a box's points lie on its top, the highest are noise.

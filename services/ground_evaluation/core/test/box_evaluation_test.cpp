@@ -76,3 +76,16 @@ TEST(BoxEvaluation, WhatIsMissingIsSaid) {
   std::vector<Eigen::Vector3f> nan_cloud(500, Eigen::Vector3f::Constant(NAN));
   EXPECT_FALSE(evaluate_boxes(nan_cloud, 0.4, 0.6).ok);
 }
+
+TEST(BoxEvaluation, ALargerRidgeIsNotTakenForABox) {
+  // Where the MAV hovered with a wrong height, a long thin ridge of "ground" stands up: it
+  // has more points than either box, but not a box's size.
+  auto cloud = scene({{{4, -0.45, 0}, 0.0}, {{4, 0.45, 0}, 0.0}}, {0.6, 0.4, 0.3}, 0.01);
+  std::mt19937 random(9);
+  std::uniform_real_distribution<double> along(-1.4, 1.4), across(-0.01, 0.01);
+  for (int i = 0; i < 20000; ++i) cloud.emplace_back(1.5 + across(random), along(random), 0.3);
+  const BoxEvaluation result = evaluate_boxes(cloud, 0.4, 0.6);
+  ASSERT_TRUE(result.ok) << result.message;
+  for (const auto& box : result.boxes) EXPECT_NEAR(box.centre.x(), 4.0, 0.02);
+  EXPECT_GT(result.mean_performance_percent, 98.0);
+}

@@ -1,6 +1,7 @@
 // The MAV paper's quantitative check of a ground model (section 4.1): boxes of known size
-// stand on flat ground; find them in the cloud (ground plane removed, Euclidean clusters),
-// fit each one's footprint rectangle and compare its width/length ratio with the truth:
+// stand on flat ground; find them in the cloud (ground plane removed, Euclidean clusters,
+// the objects nearest the boxes' known footprint area), fit each one's footprint rectangle
+// and compare its width/length ratio with the truth:
 // E = |ratio_measured - ratio_actual| / ratio_actual * 100 %, P = 100 % - E.
 #pragma once
 
@@ -35,7 +36,7 @@ struct BoxEvaluation {
   bool ok = false;
   std::string message;  // why not, when not ok
   double ratio_actual = 0;
-  std::vector<BoxMeasurement> boxes;  // largest first
+  std::vector<BoxMeasurement> boxes;  // the objects nearest the boxes' size, nearest first
   double mean_performance_percent = 0;
   size_t ground_points = 0;
   double ground_sigma = 0;  // m, robust spread of the ground's heights about its plane
