@@ -39,7 +39,7 @@ std::vector<Eigen::Vector3f> read_xyz(const std::string& path) {
       char* end = nullptr;
       value = std::strtof(at, &end);
       if (end == at)
-        throw CloudFileError(path + ":" + std::to_string(number) + ": expected 'x y z', got '" + line.substr(0, 60) + "'");
+        throw CloudFileError(path + ":" + std::to_string(number) + ": expected three numbers x y z, got '" + line.substr(0, 60) + "'");
       at = end;
     }
     points.emplace_back(xyz[0], xyz[1], xyz[2]);

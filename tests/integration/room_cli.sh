@@ -58,7 +58,7 @@ expect_exit 2 "not a readable ply file" -- "$scanbus" room measure "$work/corrup
 printf 'ply\nformat ascii 1.0\nelement vertex 100\nproperty float x\nproperty float y\nproperty float z\nend_header\n1 2 3\n' > "$work/short.ply"
 expect_exit 2 "not a readable ply file" -- "$scanbus" room measure "$work/short.ply"
 printf '1 2 3\n4 five 6\n' > "$work/bad.xyz"
-expect_exit 2 "bad.xyz:2: expected 'x y z'" -- "$scanbus" room measure "$work/bad.xyz"
+expect_exit 2 "bad.xyz:2: expected three numbers x y z" -- "$scanbus" room measure "$work/bad.xyz"
 printf 'nan nan nan\n' > "$work/nan.xyz"
 for _ in $(seq 200); do printf 'nan 1 2\n' >> "$work/nan.xyz"; done
 expect_exit 1 "too_few_points" -- "$scanbus" room measure "$work/nan.xyz" --json
