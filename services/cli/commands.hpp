@@ -17,6 +17,8 @@ struct DdsOptions {
   int domain = 0;
 
   DdsSettings settings() const { return {profile_file, "localhost", domain}; }
+  // Into the environment, so services started from here read the same domain and profile.
+  void export_to_children() const;
 };
 void add_dds_options(CLI::App& command, DdsOptions& options);
 

@@ -22,12 +22,6 @@ namespace scanbus::cli {
 
 namespace {
 
-void check_alive(ChildProcess& child) {
-  if (auto status = child.exited())
-    throw std::runtime_error(child.name() + " exited early with status " + std::to_string(*status) + " (see " +
-                             child.log_path() + ")");
-}
-
 // The services' configs for this flight: the matcher as 'scanbus eval mav' runs it, the
 // pose estimator on the log's origin and laser mount.
 void write_configs(const std::string& dir, const sensor_replay::MavLog& log, const std::string& log_path, double rate) {
@@ -68,8 +62,7 @@ MavFlightResult run_mav_flight(const MavFlightOptions& options) {
   const std::string log_path = options.work_dir + "/flight.mavlog";
   sensor_replay::write_mav_log(log_path, log);
   write_configs(options.work_dir, log, log_path, options.rate);
-  setenv("SCANBUS_DOMAIN_ID", std::to_string(options.dds.domain).c_str(), 1);
-  if (!options.dds.profile_file.empty()) setenv("SCANBUS_DDS_PROFILE_FILE", options.dds.profile_file.c_str(), 1);
+  options.dds.export_to_children();
 
   Participant participant(options.dds.settings(), "scanbus/demo");
   std::mutex mutex;
@@ -86,7 +79,7 @@ MavFlightResult run_mav_flight(const MavFlightOptions& options) {
         options.work_dir + "/" + name + ".log"));
   }
   const auto check_services = [&] {
-    for (auto& service : services) check_alive(*service);
+    for (auto& service : services) service->expect_running();
   };
   const auto discovery_deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   while (poses.matched_writers() == 0) {

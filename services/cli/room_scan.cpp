@@ -22,12 +22,6 @@ namespace {
 
 constexpr unsigned kRevolutionsPerScan = 27;
 
-void check_alive(ChildProcess& child) {
-  if (auto status = child.exited())
-    throw std::runtime_error(child.name() + " exited early with status " + std::to_string(*status) + " (see " +
-                             child.log_path() + ")");
-}
-
 }  // namespace
 
 RoomScanResult run_room_scan(const RoomScanOptions& options) {
@@ -41,8 +35,7 @@ RoomScanResult run_room_scan(const RoomScanOptions& options) {
   const std::string room_config = options.work_dir + "/room_measurement.yaml";
   std::ofstream(room_config) << "service:\n  health_period: 0.5\nroom_measurement:\n  scans: " << options.scans << "\n";
   // The services read their DDS settings from the environment: same domain and profile as ours.
-  setenv("SCANBUS_DOMAIN_ID", std::to_string(options.dds.domain).c_str(), 1);
-  if (!options.dds.profile_file.empty()) setenv("SCANBUS_DDS_PROFILE_FILE", options.dds.profile_file.c_str(), 1);
+  options.dds.export_to_children();
 
   Participant participant(options.dds.settings(), "scanbus/scan");
   std::mutex mutex;
@@ -78,8 +71,8 @@ RoomScanResult run_room_scan(const RoomScanOptions& options) {
   const auto discovery_deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   while (revolution_reader.matched_writers() == 0 || scan_reader.matched_writers() == 0 ||
          (options.measure && room_reader.matched_writers() == 0)) {
-    check_alive(scanner_io);
-    if (room_measurement) check_alive(*room_measurement);
+    scanner_io.expect_running();
+    if (room_measurement) room_measurement->expect_running();
     if (std::chrono::steady_clock::now() > discovery_deadline) throw std::runtime_error("the services did not appear on DDS within 20 s");
     if (StopSignal::wait_for(std::chrono::milliseconds(20))) throw std::runtime_error("interrupted");
   }
@@ -89,9 +82,9 @@ RoomScanResult run_room_scan(const RoomScanOptions& options) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.timeout);
   std::optional<std::chrono::steady_clock::time_point> complete_at;
   while (!StopSignal::wait_for(std::chrono::milliseconds(100))) {
-    check_alive(simulator);
-    check_alive(scanner_io);
-    if (room_measurement) check_alive(*room_measurement);
+    simulator.expect_running();
+    scanner_io.expect_running();
+    if (room_measurement) room_measurement->expect_running();
     const auto now = std::chrono::steady_clock::now();
     if (now > deadline)
       throw std::runtime_error("no complete scan within " + std::to_string(static_cast<int>(options.timeout)) + " s");

@@ -53,6 +53,11 @@ ChildProcess::~ChildProcess() {
   waitpid(pid_, &status, 0);
 }
 
+void ChildProcess::expect_running() {
+  if (auto status = exited())
+    throw std::runtime_error(name_ + " exited early with status " + std::to_string(*status) + " (see " + log_path_ + ")");
+}
+
 std::optional<int> ChildProcess::exited() {
   int status = 0;
   if (pid_ > 0 && waitpid(pid_, &status, WNOHANG) == pid_) {

@@ -19,6 +19,8 @@ class ChildProcess {
 
   // The exit status when it has ended on its own.
   std::optional<int> exited();
+  // Throws std::runtime_error naming it, its status and its log when it has ended.
+  void expect_running();
   const std::string& name() const { return name_; }
   const std::string& log_path() const { return log_path_; }
 
