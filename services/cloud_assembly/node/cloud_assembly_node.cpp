@@ -151,10 +151,9 @@ class CloudAssembly : public Service {
     while (!pending_.empty()) {
       PendingScan& next = pending_.front();
       std::string why;
-      if (buffer_.can_lookup(settings_.fixed_frame, next.frame, next.scan.stamp, &why)) {
-        const Eigen::Isometry3d to_fixed = buffer_.lookup(settings_.fixed_frame, next.frame, next.scan.stamp);
+      if (const auto to_fixed = buffer_.try_lookup(settings_.fixed_frame, next.frame, next.scan.stamp, &why)) {
         std::vector<Eigen::Vector3d> points = scan_points(next.scan, settings_.gating);
-        for (auto& p : points) p = to_fixed * p;
+        for (auto& p : points) p = *to_fixed * p;
         continuous_.add(points);
         std::vector<Eigen::Vector3f> window_points(points.size());
         for (size_t i = 0; i < points.size(); ++i) window_points[i] = points[i].cast<float>();
@@ -180,17 +179,19 @@ class CloudAssembly : public Service {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       std::string why;
+      std::optional<Eigen::Isometry3d> to_frame;
+      if (frame != settings_.fixed_frame) to_frame = buffer_.try_lookup(frame, settings_.fixed_frame, end, &why);
       if (!(end >= begin)) {
         reply.status(Reply::BAD_REQUEST);
         reply.message("end is before begin");
-      } else if (frame != settings_.fixed_frame && !buffer_.can_lookup(frame, settings_.fixed_frame, end, &why)) {
+      } else if (frame != settings_.fixed_frame && !to_frame) {
         reply.status(Reply::BAD_REQUEST);
         reply.message("no transform to '" + frame + "' at the window's end: " + why);
       } else {
         points = window_.assemble(begin, end);
-        if (frame != settings_.fixed_frame) {
-          const Eigen::Affine3f to_frame = buffer_.lookup(frame, settings_.fixed_frame, end).cast<float>();
-          for (auto& p : points) p = to_frame * p;
+        if (to_frame) {
+          const Eigen::Affine3f transform = to_frame->cast<float>();
+          for (auto& p : points) p = transform * p;
         }
         reply.status(points.empty() ? Reply::EMPTY : Reply::OK);
         reply.message(points.empty() ? "no scans between " + std::to_string(begin) + " and " + std::to_string(end) +

@@ -133,14 +133,13 @@ Eigen::Isometry3d TransformBuffer::lookup(const std::string& target, const std::
   return up_to(target, *common, stamp).inverse() * up_to(source, *common, stamp);
 }
 
-bool TransformBuffer::can_lookup(const std::string& target, const std::string& source, double stamp,
-                                 std::string* why) const {
+std::optional<Eigen::Isometry3d> TransformBuffer::try_lookup(const std::string& target, const std::string& source,
+                                                             double stamp, std::string* why) const {
   try {
-    lookup(target, source, stamp);
-    return true;
+    return lookup(target, source, stamp);
   } catch (const TransformError& error) {
     if (why) *why = error.what();
-    return false;
+    return std::nullopt;
   }
 }
 

@@ -78,11 +78,11 @@ TEST(TransformBuffer, ErrorsNameTheFrameAndTheTime) {
   buffer.add("map", "base_link", 0.0, pose(0, 0, 0, 0));
   buffer.add("map", "base_link", 1.0, pose(1, 0, 0, 0));
   std::string why;
-  EXPECT_FALSE(buffer.can_lookup("map", "laser", 0.5, &why));
+  EXPECT_FALSE(buffer.try_lookup("map", "laser", 0.5, &why));
   EXPECT_NE(why.find("not connected"), std::string::npos) << why;
   buffer.set_static("base_link", "laser", Eigen::Isometry3d::Identity());
-  EXPECT_TRUE(buffer.can_lookup("map", "laser", 1.04));
-  EXPECT_FALSE(buffer.can_lookup("map", "laser", 1.2, &why));
+  EXPECT_TRUE(buffer.try_lookup("map", "laser", 1.04));
+  EXPECT_FALSE(buffer.try_lookup("map", "laser", 1.2, &why));
   EXPECT_NE(why.find("'map' -> 'base_link'"), std::string::npos) << why;
   EXPECT_NE(why.find("after the newest"), std::string::npos) << why;
   EXPECT_THROW(buffer.set_static("odom", "laser", Eigen::Isometry3d::Identity()), TransformError);

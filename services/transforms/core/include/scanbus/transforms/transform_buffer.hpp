@@ -7,6 +7,7 @@
 
 #include <deque>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -61,8 +62,9 @@ class TransformBuffer {
   // `target_T_source` at `stamp`: a point in `source` brought into `target`. Throws
   // TransformError naming the frame, the edge and the time it could not serve.
   Eigen::Isometry3d lookup(const std::string& target, const std::string& source, double stamp) const;
-  // The same without throwing: false with the reason in `why`.
-  bool can_lookup(const std::string& target, const std::string& source, double stamp, std::string* why = nullptr) const;
+  // The same without throwing: none, with the reason in `why`.
+  std::optional<Eigen::Isometry3d> try_lookup(const std::string& target, const std::string& source, double stamp,
+                                              std::string* why = nullptr) const;
 
  private:
   struct Edge {
