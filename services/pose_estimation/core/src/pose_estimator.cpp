@@ -72,7 +72,6 @@ double PoseEstimator::barometric_height(double pascal) const {
 void PoseEstimator::add_pressure(double stamp, double pascal) {
   fusion_.add_barometer(stamp, barometric_height(pascal));
   newest_input_ = std::max(newest_input_, stamp);
-  newest_pressure_ = std::max(newest_pressure_, stamp);
 }
 
 void PoseEstimator::add_match(double stamp, std::optional<Eigen::Vector2d> increment) {
@@ -85,7 +84,7 @@ void PoseEstimator::add_match(double stamp, std::optional<Eigen::Vector2d> incre
 bool PoseEstimator::ready(const Match& match) const {
   // The first height is the barometer's: the first result also waits for a pressure.
   const bool covered = !attitudes_.empty() && attitudes_.newest() >= match.stamp && !positions_.empty() &&
-                       positions_.newest() >= match.stamp && (previous_ || newest_pressure_ > -INFINITY);
+                       positions_.newest() >= match.stamp && (previous_ || fusion_.has_barometer());
   return covered || newest_input_ - match.stamp > settings_.max_wait;
 }
 

@@ -53,6 +53,7 @@ class HeightFusion {
   double add_node(double stamp, std::optional<double> change);
 
   double height() const;                        // of the newest node
+  bool has_barometer() const { return first_altitude_.has_value(); }
   double bias() const;                          // the barometer's, at the newest node
   double height_sigma() const { return height_sigma_; }  // m, of the newest node at the last solve
   size_t nodes_in_window() const;

@@ -75,7 +75,7 @@ class PoseEstimator {
   transforms::TransformSeries attitudes_{30.0}, positions_{30.0};
   Eigen::Vector3d position_sigma_ = Eigen::Vector3d::Zero();
   std::deque<Match> matches_;
-  double newest_input_ = -INFINITY, newest_pressure_ = -INFINITY;
+  double newest_input_ = -INFINITY;
   std::optional<std::pair<double, Eigen::Quaterniond>> previous_;  // stamp and attitude of the last result
 };
 
