@@ -215,21 +215,22 @@ BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double t
   // The plane's own axes, so footprints are measured in the ground.
   const Eigen::Vector3d normal = plane.head<3>();
   const Eigen::Vector3d e1 = normal.unitOrthogonal(), e2 = normal.cross(e1);
+  std::vector<Eigen::Vector2d> on_ground(above->size());
+  for (size_t i = 0; i < above->size(); ++i) {
+    const Eigen::Vector3d q((*above)[i].x, (*above)[i].y, (*above)[i].z);
+    on_ground[i] = Eigen::Vector2d(q.dot(e1), q.dot(e2));
+  }
   // The boxes are the objects whose size on the ground is nearest the boxes' known
   // footprint: a ridge of ground where the MAV hovered with a wrong height, or a pile of
   // stray returns, may be larger, but is not box-sized. (Only the size is compared: the
   // width/length ratio P measures is left free.)
   const auto size_mismatch = [&](const pcl::PointIndices& cluster) {
-    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
     Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    for (int index : cluster.indices) {
-      const auto& p = (*above)[static_cast<size_t>(index)];
-      mean += Eigen::Vector2d(Eigen::Vector3d(p.x, p.y, p.z).dot(e1), Eigen::Vector3d(p.x, p.y, p.z).dot(e2));
-    }
+    for (int index : cluster.indices) mean += on_ground[static_cast<size_t>(index)];
     mean /= static_cast<double>(cluster.indices.size());
+    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
     for (int index : cluster.indices) {
-      const auto& p = (*above)[static_cast<size_t>(index)];
-      const Eigen::Vector2d d(Eigen::Vector3d(p.x, p.y, p.z).dot(e1) - mean.x(), Eigen::Vector3d(p.x, p.y, p.z).dot(e2) - mean.y());
+      const Eigen::Vector2d d = on_ground[static_cast<size_t>(index)] - mean;
       scatter += d * d.transpose();
     }
     scatter /= static_cast<double>(cluster.indices.size());
@@ -238,22 +239,22 @@ BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double t
     const double area = 12 * std::sqrt(variances.x() * variances.y());
     return std::abs(std::log(area / (truth_width * truth_length)));
   };
-  std::stable_sort(clusters.begin(), clusters.end(), [&](const auto& a, const auto& b) { return size_mismatch(a) < size_mismatch(b); });
+  std::vector<std::pair<double, size_t>> by_size;  // mismatch, cluster
+  for (size_t c = 0; c < clusters.size(); ++c) by_size.emplace_back(size_mismatch(clusters[c]), c);
+  std::stable_sort(by_size.begin(), by_size.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   double total = 0;
-  for (size_t c = 0; c < settings.boxes; ++c) {
+  for (size_t rank = 0; rank < settings.boxes; ++rank) {
+    const pcl::PointIndices& cluster = clusters[by_size[rank].second];
     // The top's height: most of a box's points lie on its top, the highest are noise.
     std::vector<double> cluster_heights;
-    for (int index : clusters[c].indices) cluster_heights.push_back(heights[static_cast<size_t>(index)]);
+    for (int index : cluster.indices) cluster_heights.push_back(heights[static_cast<size_t>(index)]);
     const auto at = cluster_heights.begin() + static_cast<long>(0.75 * static_cast<double>(cluster_heights.size() - 1));
     std::nth_element(cluster_heights.begin(), at, cluster_heights.end());
     const double top = *at;
     std::vector<Eigen::Vector2d> footprint_points;
-    for (int index : clusters[c].indices) {
-      if (heights[static_cast<size_t>(index)] < settings.top_fraction * top) continue;
-      const auto& p = (*above)[static_cast<size_t>(index)];
-      const Eigen::Vector3d q(p.x, p.y, p.z);
-      footprint_points.emplace_back(q.dot(e1), q.dot(e2));
-    }
+    for (int index : cluster.indices)
+      if (heights[static_cast<size_t>(index)] >= settings.top_fraction * top)
+        footprint_points.push_back(on_ground[static_cast<size_t>(index)]);
     const Footprint footprint = fit_footprint(footprint_points, settings.noise);
     BoxMeasurement box;
     const Eigen::Vector3d middle = footprint.centre.x() * e1 + footprint.centre.y() * e2;
@@ -263,7 +264,7 @@ BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double t
     box.length = footprint.length;
     box.width = footprint.width;
     box.height = top;
-    box.points = clusters[c].indices.size();
+    box.points = cluster.indices.size();
     const double ratio = box.length > 0 ? box.width / box.length : 0;
     box.error_percent = std::abs(ratio - result.ratio_actual) / result.ratio_actual * 100;
     box.performance_percent = 100 - box.error_percent;
