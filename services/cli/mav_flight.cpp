@@ -40,15 +40,6 @@ void write_configs(const std::string& dir, const sensor_replay::MavLog& log, con
                                              << "\n  wait_for_readers: 2\n";
 }
 
-double height_at(const std::vector<sensor_replay::TruthRecord>& truth, double stamp) {
-  const auto later = std::lower_bound(truth.begin(), truth.end(), stamp,
-                                      [](const auto& record, double t) { return record.stamp < t; });
-  if (later == truth.begin()) return later->position.z();
-  if (later == truth.end()) return truth.back().position.z();
-  const auto& before = *std::prev(later);
-  const double weight = (stamp - before.stamp) / (later->stamp - before.stamp);
-  return (1 - weight) * before.position.z() + weight * later->position.z();
-}
 
 }  // namespace
 
@@ -117,13 +108,14 @@ MavFlightResult run_mav_flight(const MavFlightOptions& options) {
   result.scans = log.lasers.size();
   std::lock_guard<std::mutex> lock(mutex);
   result.poses = heights.size();
+  const auto truth = ground_evaluation::HeightSeries::truth_of(log);
   double squared = 0;
-  for (const auto& [stamp, height] : heights) squared += std::pow(height - height_at(log.truths, stamp), 2);
+  for (const auto& [stamp, height] : heights) squared += std::pow(height - truth.at(stamp), 2);
   result.fused_rmse = heights.empty() ? NAN : std::sqrt(squared / static_cast<double>(heights.size()));
   const double origin_altitude = log.meta_of("origin", 3)[2];
   squared = 0;
   for (const auto& baro : log.baros)
-    squared += std::pow(altitude_at_pressure(baro.pressure) - origin_altitude - height_at(log.truths, baro.stamp), 2);
+    squared += std::pow(altitude_at_pressure(baro.pressure) - origin_altitude - truth.at(baro.stamp), 2);
   result.barometer_rmse = std::sqrt(squared / static_cast<double>(log.baros.size()));
   for (const auto& point : from_point_cloud2(*cloud)) result.cloud.push_back(point.position);
   if (const auto box = log.meta.find("boxes"); box != log.meta.end() && box->second.size() == 3) {

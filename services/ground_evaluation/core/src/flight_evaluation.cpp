@@ -15,25 +15,6 @@ namespace {
 using sensor_replay::MavLog;
 using sensor_replay::MavLogError;
 
-// A value over time, interpolated linearly (the truth's and the barometer's height).
-class HeightSeries {
- public:
-  void add(double stamp, double value) { samples_.emplace_back(stamp, value); }
-  double at(double stamp) const {
-    const auto later = std::lower_bound(samples_.begin(), samples_.end(), stamp,
-                                        [](const auto& sample, double t) { return sample.first < t; });
-    if (later == samples_.begin()) return later->second;
-    if (later == samples_.end()) return samples_.back().second;
-    const auto& before = *std::prev(later);
-    const double weight = (stamp - before.first) / (later->first - before.first);
-    return (1 - weight) * before.second + weight * later->second;
-  }
-  bool empty() const { return samples_.empty(); }
-
- private:
-  std::vector<std::pair<double, double>> samples_;  // by stamp
-};
-
 cloud_assembly::LaserScanData scan_data(const sensor_replay::LaserRecord& record) {
   return {record.stamp, record.angle_min, record.angle_increment, record.range_min, record.range_max, record.ranges};
 }
@@ -43,6 +24,22 @@ scan_matcher::Scan matcher_scan(const sensor_replay::LaserRecord& record) {
 }
 
 }  // namespace
+
+double HeightSeries::at(double stamp) const {
+  const auto later = std::lower_bound(samples_.begin(), samples_.end(), stamp,
+                                      [](const auto& sample, double t) { return sample.first < t; });
+  if (later == samples_.begin()) return later->second;
+  if (later == samples_.end()) return samples_.back().second;
+  const auto& before = *std::prev(later);
+  const double weight = (stamp - before.first) / (later->first - before.first);
+  return (1 - weight) * before.second + weight * later->second;
+}
+
+HeightSeries HeightSeries::truth_of(const sensor_replay::MavLog& log) {
+  HeightSeries truth;
+  for (const auto& record : log.truths) truth.add(record.stamp, record.position.z());
+  return truth;
+}
 
 scan_matcher::MatcherSettings mav_matcher_settings() {
   scan_matcher::MatcherSettings settings;
@@ -64,8 +61,8 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
   pose_estimation::PoseEstimator estimator(estimator_settings);
   scan_matcher::ScanMatcher matcher(settings.matcher);
 
-  HeightSeries truth, barometer;
-  for (const auto& record : log.truths) truth.add(record.stamp, record.position.z());
+  const HeightSeries truth = HeightSeries::truth_of(log);
+  HeightSeries barometer;
   for (const auto& record : log.baros) barometer.add(record.stamp, estimator.barometric_height(record.pressure));
 
   FlightEvaluation result;

@@ -33,6 +33,18 @@ struct FlightEvaluationSettings {
   BoxSearchSettings boxes;
 };
 
+// A height over time, interpolated linearly between samples (held beyond them); samples
+// are added in time order.
+class HeightSeries {
+ public:
+  static HeightSeries truth_of(const sensor_replay::MavLog& log);  // base_link's true height
+  void add(double stamp, double value) { samples_.emplace_back(stamp, value); }
+  double at(double stamp) const;  // the series must not be empty
+
+ private:
+  std::vector<std::pair<double, double>> samples_;  // by stamp
+};
+
 enum class HeightSource { Barometer = 0, ScanMatcher = 1, Fused = 2 };
 constexpr const char* kHeightSourceNames[] = {"barometer", "scan_matcher", "fused"};
 
