@@ -7,6 +7,7 @@ packages=(
   cmake g++ make pkg-config git
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   libpcl-dev libceres-dev libeigen3-dev libgeographiclib-dev
+  libzstd-dev liblz4-dev zlib1g-dev
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libcairo2-dev libnanoflann-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   gcc-avr avr-libc binutils-avr arduino-core-avr arduino-mk

@@ -1,0 +1,241 @@
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "scanbus/recorder/mcap_reader.hpp"
+#include "scanbus/recorder/mcap_writer.hpp"
+
+namespace scanbus::recorder {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Sample {
+  uint16_t channel;
+  uint32_t sequence;
+  uint64_t log_time, publish_time;
+  std::vector<uint8_t> data;
+};
+
+std::vector<Sample> samples(size_t count, size_t largest) {
+  std::mt19937 random(7);
+  std::vector<Sample> out;
+  for (size_t i = 0; i < count; ++i) {
+    Sample sample{static_cast<uint16_t>(1 + i % 2), static_cast<uint32_t>(i), 1'000'000'000ull + i * 1000,
+                  1'000'000'000ull + i * 1000 - 7, {}};
+    sample.data.resize(random() % largest);
+    for (auto& byte : sample.data) byte = static_cast<uint8_t>(random() % 16);  // compressible
+    out.push_back(std::move(sample));
+  }
+  return out;
+}
+
+fs::path temporary(const std::string& name) {
+  return fs::temp_directory_path() / ("scanbus_mcap_" + std::to_string(::getpid()) + "_" + name);
+}
+
+// Writes the samples on two channels; with `close` false the file is left as a killed
+// recorder leaves it after its last flush.
+void write_file(const fs::path& path, const std::vector<Sample>& all, McapWriterOptions options, bool close = true) {
+  McapWriter writer(path.string(), options);
+  const uint16_t schema = writer.add_schema("std_msgs/msg/String", "ros2msg", "string data\n");
+  writer.add_channel(schema, "/one", "cdr", {{"offered_qos_profiles", ""}});
+  writer.add_channel(schema, "/two", "cdr", {});
+  for (const auto& s : all) writer.write(s.channel, s.sequence, s.log_time, s.publish_time, s.data.data(), s.data.size());
+  if (close) {
+    writer.close();
+  } else {
+    writer.flush();
+    std::FILE* copy = std::fopen((path.string() + ".killed").c_str(), "wb");
+    const auto bytes = [&] {
+      std::ifstream in(path, std::ios::binary);
+      return std::vector<char>(std::istreambuf_iterator<char>(in), {});
+    }();
+    std::fwrite(bytes.data(), 1, bytes.size(), copy);
+    std::fclose(copy);
+  }
+}
+
+std::vector<Sample> read_all(const fs::path& path, bool salvage, std::string* damage = nullptr) {
+  McapReader reader(path.string());
+  std::vector<Sample> out;
+  const std::string found = reader.read_messages(
+      [&](const McapMessage& m, const McapChannel& channel) {
+        EXPECT_EQ(channel.id, m.channel_id);
+        out.push_back({m.channel_id, m.sequence, m.log_time, m.publish_time, {m.data, m.data + m.size}});
+      },
+      salvage);
+  if (damage) *damage = found;
+  return out;
+}
+
+void expect_equal(const std::vector<Sample>& expected, const std::vector<Sample>& actual) {
+  ASSERT_EQ(expected.size(), actual.size());
+  for (size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_EQ(expected[i].channel, actual[i].channel) << i;
+    EXPECT_EQ(expected[i].sequence, actual[i].sequence) << i;
+    EXPECT_EQ(expected[i].log_time, actual[i].log_time) << i;
+    EXPECT_EQ(expected[i].publish_time, actual[i].publish_time) << i;
+    EXPECT_EQ(expected[i].data, actual[i].data) << i;
+  }
+}
+
+void truncate_copy(const fs::path& from, const fs::path& to, size_t size) {
+  fs::copy_file(from, to, fs::copy_options::overwrite_existing);
+  fs::resize_file(to, size);
+}
+
+class McapRoundTrip : public ::testing::TestWithParam<Compression> {};
+
+TEST_P(McapRoundTrip, MessagesSchemasAndSummaryReadBackExactly) {
+  const auto path = temporary("round_trip.mcap");
+  // A 200 kB message outgrows the 64 kB chunks: it gets a chunk of its own.
+  auto all = samples(500, 2000);
+  all[100].data.assign(200'000, 3);
+  write_file(path, all, {GetParam(), 64 << 10});
+
+  McapReader reader(path.string());
+  EXPECT_EQ(reader.profile(), "ros2");
+  const auto summary = reader.read_summary();
+  ASSERT_TRUE(summary);
+  ASSERT_TRUE(summary->statistics);
+  EXPECT_EQ(summary->statistics->message_count, 500u);
+  EXPECT_EQ(summary->statistics->channel_message_counts.at(1), 250u);
+  EXPECT_EQ(summary->statistics->channel_message_counts.at(2), 250u);
+  EXPECT_EQ(summary->statistics->message_start_time, all.front().log_time);
+  EXPECT_EQ(summary->statistics->message_end_time, all.back().log_time);
+  EXPECT_GE(summary->chunks.size(), 3u);
+  EXPECT_EQ(summary->statistics->chunk_count, summary->chunks.size());
+  EXPECT_EQ(summary->channels.at(1).topic, "/one");
+  EXPECT_EQ(summary->channels.at(1).metadata.count("offered_qos_profiles"), 1u);
+  EXPECT_EQ(summary->schemas.at(1).data, "string data\n");
+  for (const auto& chunk : summary->chunks) EXPECT_EQ(chunk.compression, compression_name(GetParam()));
+
+  expect_equal(all, read_all(path, false));
+  fs::remove(path);
+}
+
+INSTANTIATE_TEST_SUITE_P(Compressions, McapRoundTrip,
+                         ::testing::Values(Compression::None, Compression::Lz4, Compression::Zstd));
+
+TEST(Mcap, KilledRecordingKeepsEveryFlushedChunk) {
+  const auto path = temporary("killed.mcap");
+  const auto all = samples(300, 500);
+  write_file(path, all, {Compression::Zstd, 16 << 10}, false);
+  const fs::path killed = path.string() + ".killed";
+
+  try {
+    read_all(killed, false);
+    FAIL() << "a file without Data End and footer must be rejected";
+  } catch (const McapError& error) {
+    EXPECT_NE(std::string(error.what()).find("without a Data End record"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("offset " + std::to_string(fs::file_size(killed))), std::string::npos);
+  }
+  std::string damage;
+  expect_equal(all, read_all(killed, true, &damage));
+  EXPECT_FALSE(damage.empty());
+  EXPECT_FALSE(McapReader(killed.string()).read_summary());
+  fs::remove(path);
+  fs::remove(killed);
+}
+
+TEST(Mcap, TruncatedInsideAChunkNamesItsOffsetAndSalvagesTheChunksBefore) {
+  const auto path = temporary("truncated.mcap");
+  const auto all = samples(300, 500);
+  write_file(path, all, {Compression::Lz4, 16 << 10});
+  McapReader reader(path.string());
+  const auto chunks = reader.read_summary()->chunks;
+  ASSERT_GE(chunks.size(), 3u);
+  const auto cut = temporary("truncated_cut.mcap");
+  truncate_copy(path, cut, chunks[2].offset + 100);
+
+  try {
+    read_all(cut, false);
+    FAIL() << "a truncated chunk must be rejected";
+  } catch (const McapError& error) {
+    EXPECT_NE(std::string(error.what()).find("at offset " + std::to_string(chunks[2].offset)), std::string::npos)
+        << error.what();
+    EXPECT_NE(std::string(error.what()).find("truncated"), std::string::npos) << error.what();
+  }
+  std::string damage;
+  const auto salvaged = read_all(cut, true, &damage);
+  EXPECT_NE(damage.find(std::to_string(chunks[2].offset)), std::string::npos);
+  ASSERT_FALSE(salvaged.empty());
+  EXPECT_EQ(salvaged.back().log_time, chunks[1].end_time);  // everything of the two whole chunks
+  expect_equal(std::vector<Sample>(all.begin(), all.begin() + salvaged.size()), salvaged);
+  fs::remove(path);
+  fs::remove(cut);
+}
+
+TEST(Mcap, CorruptChunkFailsItsCrcAndSalvageStopsBeforeIt) {
+  const auto path = temporary("corrupt.mcap");
+  const auto all = samples(300, 500);
+  write_file(path, all, {Compression::None, 16 << 10});
+  const auto chunks = McapReader(path.string()).read_summary()->chunks;
+  {
+    std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
+    file.seekp(static_cast<std::streamoff>(chunks[1].offset + 200));
+    file.put('\x55');
+  }
+  try {
+    read_all(path, false);
+    FAIL() << "a corrupt chunk must be rejected";
+  } catch (const McapError& error) {
+    EXPECT_NE(std::string(error.what()).find("chunk at offset " + std::to_string(chunks[1].offset)), std::string::npos)
+        << error.what();
+  }
+  std::string damage;
+  const auto salvaged = read_all(path, true, &damage);
+  EXPECT_NE(damage.find("CRC"), std::string::npos) << damage;
+  ASSERT_FALSE(salvaged.empty());
+  EXPECT_EQ(salvaged.back().log_time, chunks[0].end_time);
+  fs::remove(path);
+}
+
+// Every prefix of a file (a recording cut at any byte): an McapError or a salvaged prefix of
+// the messages, never a crash, a hang or a wrong message.
+TEST(Mcap, EveryTruncationIsAnErrorOrAPrefix) {
+  const auto path = temporary("prefixes.mcap");
+  const auto all = samples(40, 100);
+  write_file(path, all, {Compression::Zstd, 1 << 10});
+  const auto cut = temporary("prefixes_cut.mcap");
+  const size_t size = fs::file_size(path);
+  for (size_t length = 0; length < size; ++length) {
+    truncate_copy(path, cut, length);
+    try {
+      std::string damage;
+      const auto salvaged = read_all(cut, true, &damage);
+      expect_equal(std::vector<Sample>(all.begin(), all.begin() + std::min(salvaged.size(), all.size())), salvaged);
+      if (damage.empty()) EXPECT_EQ(salvaged.size(), all.size()) << "a clean read of a cut file at " << length;
+    } catch (const McapError&) {
+      EXPECT_LT(length, 36u) << "only a file too short for its header may be refused outright";
+    }
+  }
+  fs::remove(path);
+  fs::remove(cut);
+}
+
+TEST(Mcap, RejectsAFileThatIsNotMcap) {
+  const auto path = temporary("not.mcap");
+  std::ofstream(path) << "# a PCD file, say\nVERSION 0.7\nFIELDS x y z\n";
+  try {
+    McapReader reader(path.string());
+    FAIL();
+  } catch (const McapError& error) {
+    EXPECT_NE(std::string(error.what()).find("not an MCAP file"), std::string::npos) << error.what();
+  }
+  fs::remove(path);
+  EXPECT_THROW(McapReader("/nonexistent/file.mcap"), McapError);
+}
+
+TEST(Mcap, UnknownCompressionNameIsRefused) {
+  EXPECT_EQ(compression_from_name("none"), Compression::None);
+  EXPECT_EQ(compression_from_name("lz4"), Compression::Lz4);
+  EXPECT_THROW(compression_from_name("gzip"), McapError);
+}
+
+}  // namespace
+}  // namespace scanbus::recorder
