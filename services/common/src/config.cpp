@@ -164,6 +164,19 @@ std::vector<std::vector<double>> Config::number_rows(const std::string& key, siz
   return rows;
 }
 
+std::vector<std::string> Config::texts(const std::string& key) const {
+  state_->read_leaves.insert(path_of(key));
+  const YAML::Node list = node_[key];
+  std::vector<std::string> out;
+  if (!list || list.IsNull()) return out;
+  if (!list.IsSequence()) fail(key, "must be a list of names, got " + describe(list));
+  for (size_t i = 0; i < list.size(); ++i) {
+    if (!list[i].IsScalar()) fail(key + "[" + std::to_string(i) + "]", "must be a name, got " + describe(list[i]));
+    out.push_back(list[i].as<std::string>());
+  }
+  return out;
+}
+
 std::vector<Config> Config::maps(const std::string& key) const {
   state_->read_sections.insert(path_of(key));
   const YAML::Node list = node_[key];

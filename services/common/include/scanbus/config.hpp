@@ -41,6 +41,8 @@ class Config {
   // A list of `width` numbers, or a list of such lists (rows); throws when absent.
   std::vector<double> numbers(const std::string& key, size_t width) const;
   std::vector<std::vector<double>> number_rows(const std::string& key, size_t width) const;
+  // A list of names (empty when absent).
+  std::vector<std::string> texts(const std::string& key) const;
   // Each map of a list of maps (empty when absent), named "key[i]" in errors.
   std::vector<Config> maps(const std::string& key) const;
   // Throws ConfigError saying the key is required.

@@ -57,6 +57,7 @@ class Participant {
   // QoS of a topic: catalogue default, overridden by the config's qos section.
   QosSettings qos(const std::string& topic_name) const;
   void set_qos_overrides(const Config& qos_section);
+  bool has_qos_override(const std::string& topic_name) const { return qos_overrides_.count(topic_name) > 0; }
 
  private:
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;

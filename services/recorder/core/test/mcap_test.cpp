@@ -209,7 +209,9 @@ TEST(Mcap, EveryTruncationIsAnErrorOrAPrefix) {
       std::string damage;
       const auto salvaged = read_all(cut, true, &damage);
       expect_equal(std::vector<Sample>(all.begin(), all.begin() + std::min(salvaged.size(), all.size())), salvaged);
-      if (damage.empty()) EXPECT_EQ(salvaged.size(), all.size()) << "a clean read of a cut file at " << length;
+      if (damage.empty()) {
+        EXPECT_EQ(salvaged.size(), all.size()) << "a clean read of a cut file at " << length;
+      }
     } catch (const McapError&) {
       EXPECT_LT(length, 36u) << "only a file too short for its header may be refused outright";
     }

@@ -1,0 +1,216 @@
+// `scanbus record`, `scanbus replay`, `scanbus info`: MCAP recordings of scanbus topics.
+#include <unistd.h>
+
+#include <cstdio>
+#include <iostream>
+#include <set>
+
+#include "commands.hpp"
+#include "recording.hpp"
+#include "replay.hpp"
+#include "scanbus/recorder/mcap_reader.hpp"
+#include "scanbus/recorder/ros2msg.hpp"
+#include "scanbus/service.hpp"
+
+namespace scanbus::cli {
+
+namespace {
+
+using recorder::McapError;
+
+struct RecordOptions {
+  DdsOptions dds;
+  std::vector<std::string> topics;
+  std::string out;
+  std::string compression = "zstd";
+  double chunk_size = 4.0;
+  double duration = 0;
+  bool reliable = false;
+  bool json = false;
+};
+
+int run_record(const RecordOptions& options) {
+  StopSignal::install();
+  recorder::RecorderSettings settings;
+  settings.out = options.out;
+  for (const auto& topic : options.topics) settings.topics.push_back(recorder::catalogue_topic(topic));
+  settings.reliable = options.reliable;
+  settings.writer.compression = recorder::compression_from_name(options.compression);
+  settings.writer.chunk_size = static_cast<size_t>(options.chunk_size * 1048576);
+  auto log = make_logger("record", options.json ? "warn" : "info");
+  Participant participant(options.dds.settings(), "scanbus/record");
+  recorder::Recording recording(participant, settings, log);
+  const bool progress = !options.json && isatty(STDOUT_FILENO);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.duration);
+  while (!StopSignal::wait_for(std::chrono::milliseconds(200))) {
+    if (progress) std::printf("\rrecording: %lu messages, %.1f MB", static_cast<unsigned long>(recording.messages()),
+                              recording.bytes() / 1e6), std::fflush(stdout);
+    if (options.duration > 0 && std::chrono::steady_clock::now() > deadline) break;
+  }
+  recording.stop();
+  if (progress) std::printf("\r%60s\r", "");
+  const auto counts = recording.counts_by_topic();
+  if (options.json) {
+    std::cout << nlohmann::json{{"file", options.out}, {"messages", recording.messages()},
+                                {"bytes", recording.bytes()}, {"topics", counts}}
+                     .dump()
+              << "\n";
+  } else {
+    std::cout << options.out << ": " << recording.messages() << " messages\n";
+    for (const auto& [topic, count] : counts) std::cout << "  " << topic << ": " << count << "\n";
+  }
+  return 0;
+}
+
+struct ReplayOptions {
+  DdsOptions dds;
+  recorder::ReplaySettings settings;
+  double start = -1, end = -1;
+  bool json = false;
+};
+
+int run_replay(ReplayOptions options) {
+  StopSignal::install();
+  if (options.start >= 0) options.settings.start = options.start;
+  if (options.end >= 0) options.settings.end = options.end;
+  auto log = make_logger("replay", options.json ? "warn" : "info");
+  Participant participant(options.dds.settings(), "scanbus/replay");
+  const bool progress = !options.json && isatty(STDOUT_FILENO);
+  const auto result = recorder::replay(participant, options.settings, log, [&](uint64_t done, uint64_t total) {
+    if (progress && (done % 50 == 0 || done == total))
+      std::printf("\rreplaying: message %lu of %lu", static_cast<unsigned long>(done), static_cast<unsigned long>(total)),
+          std::fflush(stdout);
+  });
+  if (progress) std::printf("\r%60s\r", "");
+  if (options.json) {
+    std::cout << nlohmann::json{{"file", options.settings.file}, {"published", result.published},
+                                {"topics", result.published_by_topic}, {"damage", result.damage}}
+                     .dump()
+              << "\n";
+  } else {
+    std::cout << options.settings.file << ": published " << result.published << " messages\n";
+    for (const auto& [topic, count] : result.published_by_topic) std::cout << "  " << topic << ": " << count << "\n";
+    if (!result.damage.empty()) std::cout << "stopped at damage: " << result.damage << "\n";
+  }
+  return 0;
+}
+
+struct InfoOptions {
+  std::string file;
+  bool salvage = false;
+  bool json = false;
+};
+
+// From the summary when the file has one, else by reading every message.
+int run_info(const InfoOptions& options) {
+  recorder::McapReader reader(options.file);
+  std::map<uint16_t, recorder::McapChannel> channels;
+  std::map<uint16_t, recorder::McapSchema> schemas;
+  std::map<uint16_t, uint64_t> counts;
+  uint64_t messages = 0, start = 0, end = 0, chunks = 0;
+  std::set<std::string> compressions;
+  std::string damage;
+  if (const auto summary = reader.read_summary(); summary && summary->statistics) {
+    channels = summary->channels;
+    schemas = summary->schemas;
+    counts = summary->statistics->channel_message_counts;
+    messages = summary->statistics->message_count;
+    start = summary->statistics->message_start_time;
+    end = summary->statistics->message_end_time;
+    chunks = summary->chunks.size();
+    for (const auto& chunk : summary->chunks) compressions.insert(chunk.compression.empty() ? "none" : chunk.compression);
+  } else {
+    damage = reader.read_messages(
+        [&](const recorder::McapMessage& message, const recorder::McapChannel&) {
+          start = messages == 0 ? message.log_time : std::min(start, message.log_time);
+          end = std::max(end, message.log_time);
+          ++messages;
+          ++counts[message.channel_id];
+        },
+        options.salvage);
+    channels = reader.channels();
+    schemas = reader.schemas();
+  }
+  const double duration = messages ? (end - start) * 1e-9 : 0;
+  nlohmann::json topics = nlohmann::json::array();
+  for (const auto& [id, channel] : channels) {
+    const auto schema = schemas.find(channel.schema_id);
+    topics.push_back({{"topic", channel.topic},
+                      {"type", schema == schemas.end() ? "" : schema->second.name},
+                      {"message_encoding", channel.message_encoding},
+                      {"messages", counts.count(id) ? counts.at(id) : 0}});
+  }
+  if (options.json) {
+    std::cout << nlohmann::json{{"file", options.file},      {"bytes", reader.file_size()},
+                                {"profile", reader.profile()}, {"library", reader.library()},
+                                {"messages", messages},      {"start_ns", start},
+                                {"end_ns", end},             {"duration_s", duration},
+                                {"chunks", chunks},          {"compression", compressions},
+                                {"topics", topics},          {"damage", damage}}
+                     .dump()
+              << "\n";
+    return 0;
+  }
+  std::printf("%s: %lu bytes, profile '%s', written by '%s'\n", options.file.c_str(),
+              static_cast<unsigned long>(reader.file_size()), reader.profile().c_str(), reader.library().c_str());
+  std::printf("messages: %lu over %.3f s\n", static_cast<unsigned long>(messages), duration);
+  if (chunks) {
+    std::string names;
+    for (const auto& name : compressions) names += (names.empty() ? "" : ", ") + name;
+    std::printf("chunks: %lu (%s)\n", static_cast<unsigned long>(chunks), names.c_str());
+  } else {
+    std::printf("no summary: counted by reading every message\n");
+  }
+  for (const auto& topic : topics) {
+    const auto count = topic["messages"].get<uint64_t>();
+    std::printf("  %-28s %-44s %8lu msgs\n", topic["topic"].get<std::string>().c_str(),
+                topic["type"].get<std::string>().c_str(), static_cast<unsigned long>(count));
+  }
+  if (!damage.empty()) std::printf("damaged: %s\n", damage.c_str());
+  return 0;
+}
+
+}  // namespace
+
+void add_record_commands(CLI::App& app, int& exit_code) {
+  static RecordOptions record;
+  auto* command = app.add_subcommand("record", "Record topics to an MCAP file (ros2 profile) until Ctrl-C");
+  command->add_option("--topics", record.topics, "Topics, DDS (rt/scan) or ROS (/scan) names (default: every catalogue topic)");
+  command->add_option("-o,--out", record.out, "MCAP file to write")->required();
+  command->add_option("--compression", record.compression, "Chunk compression")
+      ->check(CLI::IsMember({"zstd", "lz4", "none"}));
+  command->add_option("--chunk-size", record.chunk_size, "MiB of messages per chunk")->check(CLI::Range(0.001, 1024.0));
+  command->add_option("--duration", record.duration, "Stop after this many seconds (0: at Ctrl-C or SIGTERM)")
+      ->check(CLI::NonNegativeNumber);
+  command->add_flag("--reliable", record.reliable,
+                   "Read every topic RELIABLE (default: as the catalogue; sensor topics are best effort)");
+  command->add_flag("--json", record.json, "One JSON summary line, no progress");
+  add_dds_options(*command, record.dds);
+  on_run(*command, exit_code, [] { return run_record(record); });
+
+  static ReplayOptions replay;
+  command = app.add_subcommand("replay", "Publish an MCAP file's messages on their topics");
+  command->add_option("file", replay.settings.file, "MCAP file")->required()->check(CLI::ExistingFile);
+  command->add_option("--rate", replay.settings.rate, "Times the recorded pace (0: as fast as readers take them)")
+      ->check(CLI::NonNegativeNumber);
+  command->add_flag("--loop", replay.settings.loop, "Start again at the end, until Ctrl-C");
+  command->add_option("--topics", replay.settings.topics, "Only these topics (DDS or ROS names)");
+  command->add_option("--start", replay.start, "Seconds after the first message to start at")->check(CLI::NonNegativeNumber);
+  command->add_option("--end", replay.end, "Seconds after the first message to stop at")->check(CLI::NonNegativeNumber);
+  command->add_flag("--salvage", replay.settings.salvage, "Replay what precedes damage instead of refusing the file");
+  command->add_option("--wait-for-readers", replay.settings.wait_for_readers,
+                      "Seconds to wait until every replayed topic has a reader")
+      ->check(CLI::NonNegativeNumber);
+  command->add_flag("--json", replay.json, "One JSON summary line, no progress");
+  add_dds_options(*command, replay.dds);
+  on_run(*command, exit_code, [] { return run_replay(replay); });
+
+  static InfoOptions info;
+  command = app.add_subcommand("info", "Topics, types, counts and time span of an MCAP file");
+  command->add_option("file", info.file, "MCAP file")->required()->check(CLI::ExistingFile);
+  command->add_flag("--salvage", info.salvage, "Report what precedes damage instead of refusing the file");
+  command->add_flag("--json", info.json, "One JSON object");
+  on_run(*command, exit_code, [] { return run_info(info); });
+}
+
+}  // namespace scanbus::cli

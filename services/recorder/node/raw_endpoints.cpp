@@ -1,0 +1,74 @@
+#include "raw_endpoints.hpp"
+
+#include <cstring>
+
+namespace scanbus::recorder {
+
+namespace dds = eprosima::fastdds::dds;
+using eprosima::fastrtps::rtps::SerializedPayload_t;
+using eprosima::fastrtps::types::ReturnCode_t;
+
+RawType::RawType(const std::string& type_name) {
+  setName(type_name.c_str());
+  m_typeSize = 64 * 1024;  // the first reservation; payloads grow (PREALLOCATED_WITH_REALLOC)
+  m_isGetKeyDefined = false;
+  auto_fill_type_object(false);
+  auto_fill_type_information(false);
+}
+
+bool RawType::serialize(void* data, SerializedPayload_t* payload) {
+  const auto& sample = *static_cast<RawSample*>(data);
+  if (sample.size() < 4 || sample.size() > payload->max_size) return false;
+  std::memcpy(payload->data, sample.data(), sample.size());
+  payload->length = static_cast<uint32_t>(sample.size());
+  payload->encapsulation = sample[1] == 0 ? CDR_BE : CDR_LE;  // the representation identifier's low byte
+  return true;
+}
+
+bool RawType::deserialize(SerializedPayload_t* payload, void* data) {
+  auto& sample = *static_cast<RawSample*>(data);
+  sample.assign(payload->data, payload->data + payload->length);
+  return true;
+}
+
+std::function<uint32_t()> RawType::getSerializedSizeProvider(void* data) {
+  return [data] { return static_cast<uint32_t>(static_cast<RawSample*>(data)->size()); };
+}
+
+RawReader::RawReader(Participant& participant, const std::string& topic, const std::string& type_name,
+                     const QosSettings& qos, Handler handler)
+    : participant_(participant), handler_(std::move(handler)),
+      reader_(create_reader(participant, topic, new RawType(type_name), qos, this)) {}
+
+RawReader::~RawReader() { delete_reader(participant_, reader_); }
+
+void RawReader::on_data_available(dds::DataReader* reader) {
+  dds::SampleInfo info;
+  while (reader->take_next_sample(&sample_, &info) == ReturnCode_t::RETCODE_OK) {
+    if (info.valid_data) handler_(sample_, info);
+  }
+}
+
+RawWriter::RawWriter(Participant& participant, const std::string& topic, const std::string& type_name,
+                     const dds::DataWriterQos& qos)
+    : participant_(participant), topic_(topic) {
+  writer_ = participant.publisher()->create_datawriter(participant.topic(topic, new RawType(type_name)), qos);
+  if (!writer_) throw DdsError("cannot create a writer on '" + topic + "' of type " + type_name);
+}
+
+RawWriter::~RawWriter() { delete_writer(participant_, writer_); }
+
+bool RawWriter::write(const RawSample& sample) { return writer_->write(const_cast<RawSample*>(&sample)); }
+
+size_t RawWriter::matched_readers() const {
+  dds::PublicationMatchedStatus status;
+  writer_->get_publication_matched_status(status);
+  return static_cast<size_t>(status.current_count);
+}
+
+bool RawWriter::wait_for_acknowledgments(std::chrono::milliseconds timeout) {
+  return writer_->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(timeout.count() / 1000.0)) ==
+         ReturnCode_t::RETCODE_OK;
+}
+
+}  // namespace scanbus::recorder

@@ -1,0 +1,39 @@
+#include "recorder_node.hpp"
+
+#include "recording.hpp"
+
+namespace scanbus::recorder {
+
+namespace {
+
+class RecorderService : public Service {
+ public:
+  RecorderService(ServiceContext& context, RecorderSettings settings)
+      : context_(context), settings_(std::move(settings)) {}
+
+  int run() override {
+    // The file is created here, not in the factory, so --check-config writes nothing.
+    Recording recording(context_.participant, settings_, context_.log);
+    auto& messages = context_.health.counter("messages_recorded");
+    auto& bytes = context_.health.counter("bytes_recorded");
+    while (!StopSignal::wait_for(std::chrono::milliseconds(200))) {
+      messages = recording.messages();
+      bytes = recording.bytes();
+    }
+    recording.stop();
+    messages = recording.messages();
+    return 0;
+  }
+
+ private:
+  ServiceContext& context_;
+  RecorderSettings settings_;
+};
+
+}  // namespace
+
+std::unique_ptr<Service> make_recorder(ServiceContext& context) {
+  return std::make_unique<RecorderService>(context, recorder_settings_from_config(context.config.section("recorder")));
+}
+
+}  // namespace scanbus::recorder

@@ -1,0 +1,175 @@
+#include "recording.hpp"
+
+#include <chrono>
+
+#include "scanbus/recorder/ros2msg.hpp"
+
+namespace scanbus::recorder {
+
+namespace {
+
+uint64_t now_ns() {
+  return static_cast<uint64_t>(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count());
+}
+
+}  // namespace
+
+std::string catalogue_topic(const std::string& name) {
+  const std::string topic = dds_topic_of_ros_topic(name);
+  if (!find_topic(topic))
+    throw ConfigError("topic '" + name + "' is not in the topic catalogue (`scanbus topics` lists them)");
+  return topic;
+}
+
+RecorderSettings recorder_settings_from_config(const Config& section) {
+  RecorderSettings settings;
+  settings.out = section.text("out", "");
+  if (settings.out.empty()) section.missing("out");
+  try {
+    for (const auto& name : section.texts("topics")) settings.topics.push_back(catalogue_topic(name));
+  } catch (const ConfigError& error) {
+    section.fail("topics", error.what());
+  }
+  settings.writer.compression = compression_from_name(section.choice("compression", "zstd", {"zstd", "lz4", "none"}));
+  settings.writer.chunk_size =
+      static_cast<size_t>(section.number("chunk_size", settings.writer.chunk_size / 1048576.0, 0.001, 1024) * 1048576);
+  settings.reliable = section.flag("reliable", settings.reliable);
+  settings.flush_period = section.number("flush_period", settings.flush_period, 0.01, 3600);
+  settings.queue_bytes =
+      static_cast<size_t>(section.number("queue_size", settings.queue_bytes / 1048576.0, 1, 65536) * 1048576);
+  return settings;
+}
+
+std::string offered_qos_profiles(const QosSettings& qos) {
+  // rmw's enums: history 1 keep last / 2 keep all, reliability 1 reliable / 2 best effort,
+  // durability 1 transient local / 2 volatile; zero durations mean "default".
+  const std::string zero = "\n    sec: 0\n    nsec: 0";
+  return "- history: " + std::to_string(qos.keep_all ? 2 : 1) + "\n  depth: " + std::to_string(qos.depth) +
+         "\n  reliability: " + std::to_string(qos.reliable ? 1 : 2) +
+         "\n  durability: " + std::to_string(qos.transient_local ? 1 : 2) + "\n  deadline:" + zero +
+         "\n  lifespan:" + zero + "\n  liveliness: 1\n  liveliness_lease_duration:" + zero +
+         "\n  avoid_ros_namespace_conventions: false\n";
+}
+
+Recording::Recording(Participant& participant, const RecorderSettings& settings, std::shared_ptr<spdlog::logger> log)
+    : settings_(settings), log_(std::move(log)), writer_(settings.out, settings.writer) {
+  std::vector<std::string> topics;
+  for (const auto& name : settings.topics) topics.push_back(catalogue_topic(name));
+  if (topics.empty())
+    for (const auto& info : topic_catalogue()) topics.push_back(info.name);
+
+  std::map<std::string, uint16_t> schema_of_type;
+  for (const auto& topic : topics) {
+    const TopicInfo& info = topic_info(topic);
+    const std::string ros_type = ros_type_of_dds_type(info.type);
+    if (!schema_of_type.count(ros_type))
+      schema_of_type[ros_type] = writer_.add_schema(ros_type, "ros2msg", Ros2MsgCatalogue::scanbus().schema(ros_type));
+    QosSettings qos = participant.qos(topic);
+    if (!participant.has_qos_override(topic)) {
+      qos.keep_all = true;
+      qos.reliable = qos.reliable || settings.reliable;
+    }
+    const uint16_t channel = writer_.add_channel(schema_of_type[ros_type], ros_topic_of_dds_topic(topic), "cdr",
+                                                 {{"offered_qos_profiles", offered_qos_profiles(info.qos)}});
+    topic_of_channel_[channel] = topic;
+    readers_.push_back(std::make_unique<RawReader>(
+        participant, topic, info.type, qos,
+        [this, channel](const RawSample& sample, const auto& sample_info) { enqueue(channel, sample, sample_info); }));
+  }
+  writer_.flush();  // schemas and channels are on disk before the first message
+  thread_ = std::thread([this] { write_loop(); });
+  log_->info("recording {} topics to {} ({} chunks)", topics.size(), settings_.out,
+             compression_name(settings_.writer.compression).empty() ? "uncompressed"
+                                                                      : compression_name(settings_.writer.compression));
+}
+
+Recording::~Recording() {
+  try {
+    stop();
+  } catch (const std::exception& error) {
+    log_->error("{}", error.what());
+  }
+}
+
+void Recording::enqueue(uint16_t channel, const RawSample& sample, const eprosima::fastdds::dds::SampleInfo& info) {
+  const uint64_t received = now_ns();
+  std::unique_lock<std::mutex> lock(mutex_);
+  // Back-pressure: a reliable writer waits for us rather than a sample being dropped.
+  changed_.wait(lock, [&] { return queued_bytes_ < settings_.queue_bytes || stopping_ || !failure_.empty(); });
+  if (!failure_.empty()) return;
+  const uint64_t published = static_cast<uint64_t>(info.source_timestamp.to_ns());
+  queue_.push_back({channel, static_cast<uint32_t>(info.sample_identity.sequence_number().to64long()), received,
+                    published, sample});
+  queued_bytes_ += sample.size();
+  changed_.notify_all();
+}
+
+void Recording::write_loop() {
+  auto last_flush = std::chrono::steady_clock::now();
+  const auto flush_period = std::chrono::duration<double>(settings_.flush_period);
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (true) {
+    changed_.wait_for(lock, flush_period, [&] { return !queue_.empty() || stopping_; });
+    if (queue_.empty() && stopping_) break;
+    try {
+      while (!queue_.empty()) {
+        Pending next = std::move(queue_.front());
+        queue_.pop_front();
+        queued_bytes_ -= next.data.size();
+        changed_.notify_all();
+        lock.unlock();
+        writer_.write(next.channel, next.sequence, next.log_time, next.publish_time, next.data.data(), next.data.size());
+        lock.lock();
+        ++written_messages_;
+        written_bytes_ += next.data.size();
+        ++written_by_topic_[topic_of_channel_.at(next.channel)];
+      }
+      if (std::chrono::steady_clock::now() - last_flush >= flush_period) {
+        lock.unlock();
+        writer_.flush();
+        lock.lock();
+        last_flush = std::chrono::steady_clock::now();
+      }
+    } catch (const McapError& error) {
+      if (!lock.owns_lock()) lock.lock();
+      failure_ = error.what();
+      queue_.clear();
+      queued_bytes_ = 0;
+      changed_.notify_all();
+      log_->error("{}", failure_);
+      break;
+    }
+  }
+}
+
+void Recording::stop() {
+  if (!thread_.joinable()) return;
+  readers_.clear();  // no more samples; the listeners are gone before the queue goes
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+  }
+  changed_.notify_all();
+  thread_.join();
+  writer_.close();
+  if (!failure_.empty()) throw McapError(failure_);
+  log_->info("closed {}: {} messages", settings_.out, writer_.statistics().message_count);
+}
+
+uint64_t Recording::messages() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return written_messages_;
+}
+
+uint64_t Recording::bytes() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return written_bytes_;
+}
+
+std::map<std::string, uint64_t> Recording::counts_by_topic() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return written_by_topic_;
+}
+
+}  // namespace scanbus::recorder

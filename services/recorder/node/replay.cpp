@@ -1,0 +1,153 @@
+#include "replay.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <thread>
+
+#include "raw_endpoints.hpp"
+#include "scanbus/recorder/mcap_reader.hpp"
+#include "scanbus/recorder/ros2msg.hpp"
+#include "scanbus/service.hpp"
+
+namespace scanbus::recorder {
+
+namespace dds = eprosima::fastdds::dds;
+
+namespace {
+
+struct Stopped {};  // unwinds the message stream when a stop is requested
+
+dds::DataWriterQos replay_qos(const std::string& topic) {
+  const TopicInfo* known = find_topic(topic);
+  QosSettings qos = known ? known->qos : QosSettings{};
+  qos.reliable = true;  // a reliable writer serves reliable and best-effort readers alike
+  qos.keep_all = !qos.transient_local;
+  dds::DataWriterQos out = writer_qos(qos);
+  if (qos.keep_all) {
+    // A bounded queue (large clouds must not pile up in memory); a full one makes write()
+    // wait for acknowledgements, which is the flow control.
+    out.resource_limits().max_samples = 64;
+    out.resource_limits().max_samples_per_instance = 64;
+  }
+  out.reliability().max_blocking_time = eprosima::fastrtps::Duration_t(0.2);
+  return out;
+}
+
+// The file's selected channels, message count and first log time, checking it whole
+// (unless salvaging) before anything is published.
+struct Survey {
+  std::map<uint16_t, std::string> topic_of_channel;  // selected channels -> DDS topic
+  std::map<uint16_t, std::string> type_of_channel;
+  uint64_t messages = 0;
+  uint64_t first_time = 0;
+  std::string damage;
+};
+
+Survey survey(const ReplaySettings& settings, const std::shared_ptr<spdlog::logger>& log) {
+  std::vector<std::string> wanted;
+  for (const auto& name : settings.topics) wanted.push_back(dds_topic_of_ros_topic(name));
+  Survey result;
+  bool first = true;
+  std::map<uint16_t, bool> selected;
+  McapReader reader(settings.file);
+  std::vector<std::pair<uint64_t, uint16_t>> times;
+  result.damage = reader.read_messages(
+      [&](const McapMessage& message, const McapChannel& channel) {
+        if (first) result.first_time = message.log_time;
+        first = false;
+        result.first_time = std::min(result.first_time, message.log_time);
+        if (!selected.count(channel.id)) {
+          const std::string topic = dds_topic_of_ros_topic(channel.topic);
+          bool use = wanted.empty() || std::find(wanted.begin(), wanted.end(), topic) != wanted.end();
+          const auto& schemas = reader.schemas();
+          if (use && (channel.message_encoding != "cdr" || !schemas.count(channel.schema_id))) {
+            log->warn("{}: channel '{}' is not CDR with a schema; not replayed", settings.file, channel.topic);
+            use = false;
+          }
+          selected[channel.id] = use;
+          if (use) {
+            result.topic_of_channel[channel.id] = topic;
+            result.type_of_channel[channel.id] = dds_type_of_ros_type(schemas.at(channel.schema_id).name);
+          }
+        }
+        if (selected[channel.id]) times.emplace_back(message.log_time, channel.id);
+      },
+      settings.salvage);
+  for (const auto& [time, channel] : times) {
+    const double after_start = (time - result.first_time) * 1e-9;
+    if ((!settings.start || after_start >= *settings.start) && (!settings.end || after_start <= *settings.end))
+      ++result.messages;
+  }
+  for (const auto& name : wanted) {
+    bool found = false;
+    for (const auto& [channel, topic] : result.topic_of_channel) found = found || topic == name;
+    if (!found) log->warn("{}: no channel carries {}", settings.file, name);
+  }
+  return result;
+}
+
+}  // namespace
+
+ReplayResult replay(Participant& participant, const ReplaySettings& settings, std::shared_ptr<spdlog::logger> log,
+                    const std::function<void(uint64_t, uint64_t)>& progress) {
+  const Survey plan = survey(settings, log);
+  ReplayResult result;
+  result.damage = plan.damage;
+  if (!plan.damage.empty()) log->warn("salvaging: {}", plan.damage);
+
+  std::map<uint16_t, std::unique_ptr<RawWriter>> writers;
+  for (const auto& [channel, topic] : plan.topic_of_channel)
+    writers[channel] = std::make_unique<RawWriter>(participant, topic, plan.type_of_channel.at(channel), replay_qos(topic));
+  const auto wait_deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(settings.wait_for_readers);
+  for (const auto& [channel, writer] : writers) {
+    while (writer->matched_readers() == 0 && std::chrono::steady_clock::now() < wait_deadline) {
+      if (StopSignal::wait_for(std::chrono::milliseconds(20))) return result;
+    }
+    if (settings.wait_for_readers > 0 && writer->matched_readers() == 0)
+      log->warn("{}: no reader after {} s; replaying anyway", writer->topic(), settings.wait_for_readers);
+  }
+
+  RawSample sample;
+  try {
+    do {
+      const auto wall_start = std::chrono::steady_clock::now();
+      std::optional<uint64_t> first_replayed;
+      McapReader reader(settings.file);
+      reader.read_messages(
+          [&](const McapMessage& message, const McapChannel& channel) {
+            const auto writer = writers.find(channel.id);
+            if (writer == writers.end()) return;
+            const double after_start = (message.log_time - plan.first_time) * 1e-9;
+            if ((settings.start && after_start < *settings.start) || (settings.end && after_start > *settings.end))
+              return;
+            if (!first_replayed) first_replayed = message.log_time;
+            if (settings.rate > 0) {
+              // Signed: a file need not be in time order; an earlier message goes at once.
+              const auto since = std::max<int64_t>(0, static_cast<int64_t>(message.log_time - *first_replayed));
+              const auto due = wall_start + std::chrono::nanoseconds(static_cast<int64_t>(since / settings.rate));
+              while (std::chrono::steady_clock::now() < due) {
+                if (StopSignal::requested()) throw Stopped{};
+                std::this_thread::sleep_until(std::min(due, std::chrono::steady_clock::now() + std::chrono::milliseconds(50)));
+              }
+            }
+            sample.assign(message.data, message.data + message.size);
+            while (!writer->second->write(sample)) {
+              if (StopSignal::requested()) throw Stopped{};  // readers slow: keep waiting, lose nothing
+            }
+            ++result.published;
+            ++result.published_by_topic[writer->second->topic()];
+            if (progress) progress(result.published, plan.messages);
+          },
+          true);  // damage was found (and reported) by the survey
+    } while (settings.loop && !StopSignal::requested());
+  } catch (const Stopped&) {
+    log->info("stopped after {} messages", result.published);
+  }
+  for (const auto& [channel, writer] : writers) {
+    if (!writer->wait_for_acknowledgments(std::chrono::seconds(5)))
+      log->warn("{}: readers did not acknowledge every sample within 5 s", writer->topic());
+  }
+  return result;
+}
+
+}  // namespace scanbus::recorder

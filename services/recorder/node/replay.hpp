@@ -1,0 +1,42 @@
+// Publishes an MCAP file's CDR messages on their DDS topics, byte for byte, with the
+// recorded timing scaled by a rate or as fast as the readers take them: writers are
+// RELIABLE with KEEP_ALL history (a bounded queue, then write() waits for
+// acknowledgements), so a reliable subscriber loses nothing at any speed. Latched
+// (transient local) topics keep their catalogue depth instead, for late joiners.
+#pragma once
+
+#include <spdlog/spdlog.h>
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scanbus/dds.hpp"
+
+namespace scanbus::recorder {
+
+struct ReplaySettings {
+  std::string file;
+  double rate = 1.0;                 // times the recorded pace; 0 = as fast as possible
+  bool loop = false;
+  std::vector<std::string> topics;   // DDS or ROS names; empty: every channel
+  std::optional<double> start, end;  // s after the file's first message
+  bool salvage = false;              // replay what precedes damage instead of refusing the file
+  double wait_for_readers = 0;       // s to wait until every replayed topic has a reader
+};
+
+struct ReplayResult {
+  uint64_t published = 0;
+  std::map<std::string, uint64_t> published_by_topic;  // DDS names
+  std::string damage;                                  // with salvage: what ended the file early
+};
+
+// Throws McapError for a damaged file (unless salvage) and DdsError; returns early, with
+// what went out, when a stop is requested (StopSignal).
+ReplayResult replay(Participant& participant, const ReplaySettings& settings, std::shared_ptr<spdlog::logger> log,
+                    const std::function<void(uint64_t done, uint64_t total)>& progress = {});
+
+}  // namespace scanbus::recorder
