@@ -199,7 +199,8 @@ void add_record_commands(CLI::App& app, int& exit_code) {
   command->add_option("--end", replay.end, "Seconds after the first message to stop at")->check(CLI::NonNegativeNumber);
   command->add_flag("--salvage", replay.settings.salvage, "Replay what precedes damage instead of refusing the file");
   command->add_option("--wait-for-readers", replay.settings.wait_for_readers,
-                      "Seconds to wait until every replayed topic has a reader")
+                      "Readers every replayed topic must have before the first message");
+  command->add_option("--wait-timeout", replay.settings.wait_timeout, "Seconds to wait for those readers at most")
       ->check(CLI::NonNegativeNumber);
   command->add_flag("--json", replay.json, "One JSON summary line, no progress");
   add_dds_options(*command, replay.dds);

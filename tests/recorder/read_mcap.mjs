@@ -1,9 +1,14 @@
 // Reads an MCAP file with @mcap/core (Foxglove's reader, not ours) twice: indexed (through
 // the summary, chunk indexes and message indexes) and streamed (record by record, checking
-// CRCs). Prints one JSON object: profile, channels with topic, schema name and encoding,
-// message encoding, count and a SHA-256 of each message's payload in order; exits 1 when
-// the two readings disagree or either reader refuses the file.
+// CRCs), and decodes every message with Foxglove's ros2msg parser and CDR deserializer
+// from the schema the file carries. Prints one JSON object: profile, channels with topic,
+// schema name and encoding, message encoding, count, a SHA-256 of each message's payload
+// and each decoded message's frame (header.frame_id, or client, or the first transform's
+// child_frame_id) in order; exits 1 when the two readings disagree or a reader refuses the
+// file or a message.
 import { McapIndexedReader, McapStreamReader } from "@mcap/core";
+import { parse as parseMessageDefinition } from "@foxglove/rosmsg";
+import { MessageReader } from "@foxglove/rosmsg2-serialization";
 import { decompress as zstdDecompress } from "fzstd";
 import lz4 from "lz4js";
 import { createHash } from "node:crypto";
@@ -41,13 +46,18 @@ async function readIndexed(path) {
       metadata: Object.fromEntries(channel.metadata),
       count: 0,
       payload_sha256: [],
+      frames: [],
+      decoder: schema ? new MessageReader(parseMessageDefinition(Buffer.from(schema.data).toString("utf8"), { ros2: true })) : null,
     };
   }
   for await (const message of reader.readMessages()) {
     const channel = channels[message.channelId];
     channel.count += 1;
     channel.payload_sha256.push(sha256(message.data));
+    const decoded = channel.decoder.readMessage(message.data);
+    channel.frames.push(decoded.header?.frame_id ?? decoded.client ?? decoded.transforms?.[0]?.child_frame_id ?? null);
   }
+  for (const channel of Object.values(channels)) delete channel.decoder;
   const statistics = reader.statistics;
   await handle.close();
   return {

@@ -6,7 +6,8 @@
 # 3. a recorder killed with SIGKILL: `scanbus info` refuses the file naming the offset,
 #    `--salvage` finds every sample flushed before the kill;
 # 4. @mcap/core (Foxglove's reader, installed here with npm) reads both files: topics,
-#    counts, schemas and the SHA-256 of every payload match what was published.
+#    counts, schemas and the SHA-256 of every payload match what was published, and
+#    Foxglove's ros2msg parser and CDR reader decode every message from the file's schema.
 set -euo pipefail
 scanbus=$1 probe=$2
 here=$(cd "$(dirname "$0")" && pwd)
@@ -30,8 +31,9 @@ receiver=$!
   > "$work/record2.json" 2> "$work/record2.log" &
 recorder=$!
 until grep -q ready "$work/receive.log"; do sleep 0.1; done
-sleep 1  # the second recorder's readers match too
-"$scanbus" replay "$work/published.mcap" --rate 0 --topics $topics --wait-for-readers 20 --json > "$work/replay.json"
+# Two readers per topic: the receiver's and the second recorder's.
+"$scanbus" replay "$work/published.mcap" --rate 0 --topics $topics --wait-for-readers 2 --wait-timeout 20 --json \
+  > "$work/replay.json"
 status=0
 wait "$receiver" || status=$?
 cat "$work/receive.log" | grep -v ready
@@ -78,7 +80,7 @@ if ! command -v npm > /dev/null || ! command -v node > /dev/null; then
 fi
 mkdir -p "$work/node"
 cp "$here/read_mcap.mjs" "$work/node/"
-(cd "$work/node" && npm install --silent --no-audit --no-fund @mcap/core@2 fzstd lz4js > npm.log 2>&1) ||
+(cd "$work/node" && npm install --silent --no-audit --no-fund @mcap/core@2 fzstd lz4js @foxglove/rosmsg @foxglove/rosmsg2-serialization > npm.log 2>&1) ||
   { echo "FAIL: npm could not install @mcap/core:"; cat "$work/node/npm.log"; exit 1; }
 for file in published replayed; do
   node "$work/node/read_mcap.mjs" "$work/$file.mcap" > "$work/$file.node.json"
@@ -109,8 +111,11 @@ for name in ("published", "replayed"):
                 problems.append("no offered_qos_profiles")
             if channel["payload_sha256"] != hashes:
                 problems.append(f"{channel['count']} payloads, not the {len(hashes)} published")
+            frames = [f"frame_{i}" + "x" * (i % 37) for i in range(len(hashes))]
+            if channel["frames"] != frames:
+                problems.append("decoded through the file's schema, the frames are not the published ones")
         failures += bool(problems)
         print(("FAIL " if problems else "ok   ") + f"@mcap/core {name}.mcap {dds_topic}: " +
-              ("; ".join(problems) if problems else f"{len(hashes)} payloads identical, {channel['schema_name']}"))
+              ("; ".join(problems) if problems else f"{len(hashes)} payloads identical and decoded, {channel['schema_name']}"))
 sys.exit(1 if failures else 0)
 PY

@@ -98,13 +98,14 @@ ReplayResult replay(Participant& participant, const ReplaySettings& settings, st
   std::map<uint16_t, std::unique_ptr<RawWriter>> writers;
   for (const auto& [channel, topic] : plan.topic_of_channel)
     writers[channel] = std::make_unique<RawWriter>(participant, topic, plan.type_of_channel.at(channel), replay_qos(topic));
-  const auto wait_deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(settings.wait_for_readers);
+  const auto wait_deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(settings.wait_timeout);
   for (const auto& [channel, writer] : writers) {
-    while (writer->matched_readers() == 0 && std::chrono::steady_clock::now() < wait_deadline) {
+    while (writer->matched_readers() < settings.wait_for_readers && std::chrono::steady_clock::now() < wait_deadline) {
       if (StopSignal::wait_for(std::chrono::milliseconds(20))) return result;
     }
-    if (settings.wait_for_readers > 0 && writer->matched_readers() == 0)
-      log->warn("{}: no reader after {} s; replaying anyway", writer->topic(), settings.wait_for_readers);
+    if (writer->matched_readers() < settings.wait_for_readers)
+      log->warn("{}: {} of {} readers after {} s; replaying anyway", writer->topic(), writer->matched_readers(),
+                settings.wait_for_readers, settings.wait_timeout);
   }
 
   RawSample sample;

@@ -25,7 +25,8 @@ struct ReplaySettings {
   std::vector<std::string> topics;   // DDS or ROS names; empty: every channel
   std::optional<double> start, end;  // s after the file's first message
   bool salvage = false;              // replay what precedes damage instead of refusing the file
-  double wait_for_readers = 0;       // s to wait until every replayed topic has a reader
+  size_t wait_for_readers = 0;       // readers every replayed topic must have before the first message
+  double wait_timeout = 10;          // s to wait for them at most
 };
 
 struct ReplayResult {

@@ -59,6 +59,11 @@ std::string join(const std::vector<std::string>& scope, const std::string& separ
   return out;
 }
 
+// pkg/msg/Type -> pkg/Type, as .msg files name member types.
+std::string member_name(const std::string& ros_type) {
+  return ros_type.substr(0, ros_type.find('/')) + ros_type.substr(ros_type.rfind('/'));
+}
+
 }  // namespace
 
 // Recursive descent over the token list, filling the catalogue's definitions.
@@ -158,9 +163,7 @@ class IdlParser {
     for (size_t at; (at = ros_type.find("::")) != std::string::npos;) ros_type.replace(at, 2, "/");
     if (!out_.count(ros_type)) fail("member type " + word + " is not defined before its use");
     definition.dependencies.push_back(ros_type);
-    const size_t last = ros_type.rfind('/');
-    const size_t package_end = ros_type.find('/');
-    return ros_type.substr(0, package_end) + ros_type.substr(last);  // pkg/Type, as .msg files write it
+    return member_name(ros_type);
   }
 
   std::string msg_type(const std::vector<std::string>& scope, const std::string& word) {
@@ -232,8 +235,10 @@ std::string Ros2MsgCatalogue::schema(const std::string& ros_type) const {
   std::string text = definition(ros_type);
   std::vector<std::string> dependencies;
   collect(ros_type, dependencies);
+  // Dependencies are named as the members name them (pkg/Type), as rosbag2 writes them and
+  // Foxglove's parser looks them up.
   for (const auto& dependency : dependencies)
-    text += std::string(80, '=') + "\nMSG: " + dependency + "\n" + definitions_.at(dependency).text;
+    text += std::string(80, '=') + "\nMSG: " + member_name(dependency) + "\n" + definitions_.at(dependency).text;
   return text;
 }
 

@@ -21,10 +21,10 @@ TEST(Ros2Msg, LaserScanIsRos2sDefinitionWithItsDependencies) {
             "float32 range_max\n"
             "float32[] ranges\n"
             "float32[] intensities\n" +
-                kDelimiter + "\nMSG: std_msgs/msg/Header\n" +
+                kDelimiter + "\nMSG: std_msgs/Header\n" +
                 "builtin_interfaces/Time stamp\n"
                 "string frame_id\n" +
-                kDelimiter + "\nMSG: builtin_interfaces/msg/Time\n" +
+                kDelimiter + "\nMSG: builtin_interfaces/Time\n" +
                 "int32 sec\n"
                 "uint32 nanosec\n");
 }
@@ -37,8 +37,8 @@ TEST(Ros2Msg, ConstantsFixedArraysAndNestedSequences) {
   EXPECT_NE(room.find("geometry_msgs/Point[] corners\n"), std::string::npos);
   EXPECT_NE(catalogue.definition("scanbus/msg/Wall").find("float64[4] plane\n"), std::string::npos);
   const std::string schema = catalogue.schema("scanbus/msg/RoomMeasurement");
-  EXPECT_NE(schema.find("MSG: scanbus/msg/Wall\n"), std::string::npos);
-  EXPECT_EQ(schema.find("MSG: std_msgs/msg/Header\n"), schema.rfind("MSG: std_msgs/msg/Header\n"))
+  EXPECT_NE(schema.find("MSG: scanbus/Wall\n"), std::string::npos);
+  EXPECT_EQ(schema.find("MSG: std_msgs/Header\n"), schema.rfind("MSG: std_msgs/Header\n"))
       << "each dependency once";
 }
 

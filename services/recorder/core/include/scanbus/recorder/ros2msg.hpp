@@ -1,7 +1,7 @@
 // ROS 2 message definitions (.msg text) of scanbus's types, made from the project's own IDL
 // (idl/*.idl, compiled in) so recordings carry schemas that Foxglove and rosbag2 decode:
 // the MCAP `ros2msg` schema encoding, top-level definition first, then each dependency
-// after a line of 80 '=' and "MSG: pkg/msg/Type".
+// after a line of 80 '=' and "MSG: pkg/Type".
 //
 // Only the IDL subset scanbus writes is understood: modules, structs, constants in
 // `<Struct>_Constants` modules, primitive, string, nested, sequence<> and fixed-array members.
