@@ -4,11 +4,12 @@
 // from the schema the file carries. Prints one JSON object: profile, channels with topic,
 // schema name and encoding, message encoding, count, a SHA-256 of each message's payload
 // and each decoded message's frame (header.frame_id, or client, or the first transform's
-// child_frame_id) in order; exits 1 when the two readings disagree or a reader refuses the
+// child_frame_id) in order; every decoded message is encoded again and must give its own
+// bytes. Exits 1 when the two readings disagree or a reader refuses the
 // file or a message.
 import { McapIndexedReader, McapStreamReader } from "@mcap/core";
 import { parse as parseMessageDefinition } from "@foxglove/rosmsg";
-import { MessageReader } from "@foxglove/rosmsg2-serialization";
+import { MessageReader, MessageWriter } from "@foxglove/rosmsg2-serialization";
 import { decompress as zstdDecompress } from "fzstd";
 import lz4 from "lz4js";
 import { createHash } from "node:crypto";
@@ -47,8 +48,10 @@ async function readIndexed(path) {
       count: 0,
       payload_sha256: [],
       frames: [],
-      decoder: schema ? new MessageReader(parseMessageDefinition(Buffer.from(schema.data).toString("utf8"), { ros2: true })) : null,
+      definitions: schema ? parseMessageDefinition(Buffer.from(schema.data).toString("utf8"), { ros2: true }) : null,
     };
+    channels[id].decoder = new MessageReader(channels[id].definitions);
+    channels[id].encoder = new MessageWriter(channels[id].definitions);
   }
   for await (const message of reader.readMessages()) {
     const channel = channels[message.channelId];
@@ -56,8 +59,19 @@ async function readIndexed(path) {
     channel.payload_sha256.push(sha256(message.data));
     const decoded = channel.decoder.readMessage(message.data);
     channel.frames.push(decoded.header?.frame_id ?? decoded.client ?? decoded.transforms?.[0]?.child_frame_id ?? null);
+    // Encoded again through the same schema, the message must give its own bytes (up to
+    // the trailing alignment padding): the schema describes every field, not just the first.
+    const again = channel.encoder.writeMessage(decoded);
+    const original = Buffer.from(message.data);
+    const same = again.length <= original.length && original.subarray(0, again.length).equals(Buffer.from(again)) &&
+      original.subarray(again.length).every((byte) => byte === 0);
+    if (!same) throw new Error(`${channel.topic}: message ${channel.count} does not re-encode to its bytes through the file's schema`);
   }
-  for (const channel of Object.values(channels)) delete channel.decoder;
+  for (const channel of Object.values(channels)) {
+    delete channel.decoder;
+    delete channel.encoder;
+    delete channel.definitions;
+  }
   const statistics = reader.statistics;
   await handle.close();
   return {

@@ -4,7 +4,8 @@
 #    -> a receiver: every sample arrives byte-identical and in order, none lost;
 # 2. the replay recorded again (lz4 chunks): the same bytes;
 # 3. a recorder killed with SIGKILL: `scanbus info` refuses the file naming the offset,
-#    `--salvage` finds every sample flushed before the kill;
+#    `--salvage` finds every sample flushed before the kill; a file cut in half: `scanbus
+#    replay` refuses it naming the offset, `--salvage` publishes what precedes the cut;
 # 4. @mcap/core (Foxglove's reader, installed here with npm) reads both files: topics,
 #    counts, schemas and the SHA-256 of every payload match what was published, and
 #    Foxglove's ros2msg parser and CDR reader decode every message from the file's schema.
@@ -55,6 +56,23 @@ fi
 grep -q "offset [0-9]* without a Data End record" "$work/info.out" || { echo "FAIL: unclear error:"; cat "$work/info.out"; exit 1; }
 echo "ok   killed recording refused: $(cat "$work/info.out")"
 "$scanbus" info --salvage --json "$work/killed.mcap" > "$work/killed.json"
+
+# A file cut in the middle: replay refuses it naming the offset, and --salvage publishes
+# what precedes the cut.
+head -c $(( $(stat -c %s "$work/published.mcap") / 2 )) "$work/published.mcap" > "$work/cut.mcap"
+if "$scanbus" replay "$work/cut.mcap" --rate 0 > "$work/cut.out" 2>&1; then
+  echo "FAIL: scanbus replay accepted a truncated file"; exit 1
+fi
+grep -q "at offset [0-9]*" "$work/cut.out" || { echo "FAIL: unclear error:"; cat "$work/cut.out"; exit 1; }
+echo "ok   truncated file refused: $(cat "$work/cut.out")"
+"$scanbus" replay "$work/cut.mcap" --rate 0 --salvage --json > "$work/cut.json"
+python3 - "$work/cut.json" <<'PY'
+import json, sys
+result = json.load(open(sys.argv[1]))
+if not (0 < result["published"] < 4800 and result["damage"]):
+    sys.exit(f"FAIL: --salvage published {result['published']} messages, damage '{result['damage']}'")
+print(f"ok   --salvage replayed the {result['published']} messages before the damage")
+PY
 
 # Check counts with our reader, then everything with @mcap/core.
 python3 - "$work" "$count" <<'PY'

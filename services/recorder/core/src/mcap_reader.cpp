@@ -16,9 +16,14 @@ constexpr uint64_t kRecordHeader = 1 + 8;            // opcode, length
 constexpr uint64_t kFooterRecord = kRecordHeader + 20;
 constexpr uint64_t kMaxChunk = uint64_t{1} << 34;  // 16 GiB: a larger uncompressed size is damage
 
+// "chunk (0x06)": the record's name and opcode, for errors.
 std::string hex(uint8_t opcode) {
-  char text[8];
-  std::snprintf(text, sizeof(text), "0x%02x", opcode);
+  static const char* const names[] = {"",           "header",      "footer",          "schema",
+                                      "channel",    "message",     "chunk",           "message index",
+                                      "chunk index", "attachment", "attachment index", "statistics",
+                                      "metadata",   "metadata index", "summary offset", "data end"};
+  char text[40];
+  std::snprintf(text, sizeof(text), "%s (0x%02x)", opcode > 0 && opcode < 16 ? names[opcode] : "unknown", opcode);
   return text;
 }
 
