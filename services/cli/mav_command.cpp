@@ -11,6 +11,7 @@
 #include "cloud_files.hpp"
 #include "commands.hpp"
 #include "scanbus/ground_evaluation/flight_evaluation.hpp"
+#include "mav_messages.hpp"
 #include "scanbus/mav_sim/flight.hpp"
 
 namespace scanbus::cli {
@@ -60,7 +61,7 @@ struct SimOptions {
 
 int run_sim_mav(const SimOptions& options) {
   const auto log = mav_sim::simulate_flight(flight_settings(options.flight));
-  sensor_replay::write_mav_log(options.out, log);
+  sensor_replay::save_mav_log(options.out, log);
   std::printf("wrote %s: scenario %s, %.0f s, %zu scans, %zu IMU, %zu GPS, %zu barometer, %zu truth samples\n",
               options.out.c_str(), kRoman[options.flight.scenario], options.flight.duration, log.lasers.size(),
               log.imus.size(), log.fixes.size(), log.baros.size(), log.truths.size());
@@ -132,7 +133,7 @@ int run_eval_mav(EvalMavOptions options) {
   const bool progress = !options.json && isatty(STDOUT_FILENO);
   std::vector<std::pair<std::string, sensor_replay::MavLog>> flights;
   try {
-    for (const auto& path : options.logs) flights.emplace_back(path, sensor_replay::read_mav_log(path));
+    for (const auto& path : options.logs) flights.emplace_back(path, sensor_replay::load_mav_log(path));
   } catch (const sensor_replay::MavLogError& e) {
     std::cerr << "scanbus eval mav: " << e.what() << "\n";
     return 2;
@@ -222,7 +223,7 @@ void add_mav_sim_command(CLI::App& sim, int& exit_code) {
   command->add_option("--scenario", options.flight.scenario, "1 forward flight, 2 rotational hover in wind, "
                       "3 corner-like ground, 4 two boxes")->check(CLI::Range(1, 4));
   add_flight_options(*command, options.flight);
-  command->add_option("--out", options.out, "The MAV log to write (docs/mav_log.md)")->required();
+  command->add_option("--out", options.out, "The MAV log to write: text (docs/mav_log.md), or an MCAP recording of its topics when it ends in .mcap")->required();
   on_run(*command, exit_code, [] { return run_sim_mav(options); });
 }
 
@@ -233,7 +234,7 @@ void add_eval_command(CLI::App& app, int& exit_code) {
   static EvalMavOptions mav;
   auto* flights = eval->add_subcommand("mav", "Height RMSE and box P of MAV flights through the whole pipeline "
                                        "(simulated scenarios unless --log is given)");
-  flights->add_option("--log", mav.logs, "MAV logs to evaluate")->check(CLI::ExistingFile);
+  flights->add_option("--log", mav.logs, "MAV logs to evaluate (text or .mcap)")->check(CLI::ExistingFile);
   flights->add_option("--scenarios", mav.scenarios, "Scenarios to simulate and evaluate")
       ->delimiter(',')
       ->check(CLI::Range(1, 4));

@@ -2,13 +2,11 @@
 // are the log's own, so a replay is repeatable and its output comparable with the truth.
 #include "sensor_replay_node.hpp"
 
-#include <cmath>
 #include <cstdio>
 #include <thread>
 
-#include "scanbus/clock.hpp"
 #include "scanbus/messages.hpp"
-#include "scanbus/sensor_replay/mav_log.hpp"
+#include "mav_messages.hpp"
 
 namespace scanbus::sensor_replay {
 
@@ -20,7 +18,7 @@ struct Settings {
   bool loop, truth;
   size_t wait_for_readers;
   double wait_timeout;
-  std::string laser_frame, body_frame, gps_frame, map_frame;
+  MavFrames frames;
 };
 
 Settings read_settings(const Config& config) {
@@ -33,27 +31,11 @@ Settings read_settings(const Config& config) {
   s.wait_for_readers = static_cast<size_t>(config.integer("wait_for_readers", 0, 0, 100));
   s.wait_timeout = config.number("wait_timeout", 10.0, 0.0, 3600.0);
   const Config frames = config.section("frames");
-  s.laser_frame = frames.text("laser", "laser");
-  s.body_frame = frames.text("base_link", "base_link");
-  s.gps_frame = frames.text("gps", "gps");
-  s.map_frame = frames.text("map", "map");
+  s.frames.laser = frames.text("laser", s.frames.laser);
+  s.frames.base_link = frames.text("base_link", s.frames.base_link);
+  s.frames.gps = frames.text("gps", s.frames.gps);
+  s.frames.map = frames.text("map", s.frames.map);
   return s;
-}
-
-std_msgs::msg::Header header(double stamp, const std::string& frame) {
-  std_msgs::msg::Header h;
-  h.stamp(to_stamp(stamp));
-  h.frame_id(frame);
-  return h;
-}
-
-geometry_msgs::msg::Quaternion quaternion(const Eigen::Quaterniond& q) {
-  geometry_msgs::msg::Quaternion message;
-  message.x(q.x());
-  message.y(q.y());
-  message.z(q.z());
-  message.w(q.w());
-  return message;
 }
 
 class SensorReplay : public Service {
@@ -70,7 +52,7 @@ class SensorReplay : public Service {
 
   int run() override {
     try {
-      data_ = read_mav_log(settings_.log);
+      data_ = load_mav_log(settings_.log);
     } catch (const MavLogError& e) {
       log_->error("{}", e.what());
       std::fprintf(stderr, "sensor_replay: %s\n", e.what());
@@ -116,66 +98,25 @@ class SensorReplay : public Service {
 
   void publish(const RecordRef& record) {
     switch (record.kind) {
-      case RecordKind::Laser: {
-        const auto& r = data_.lasers[record.index];
-        sensor_msgs::msg::LaserScan scan;
-        scan.header(header(r.stamp, settings_.laser_frame));
-        scan.angle_min(static_cast<float>(r.angle_min));
-        scan.angle_increment(static_cast<float>(r.angle_increment));
-        scan.angle_max(static_cast<float>(r.angle_min + r.angle_increment * (r.ranges.size() - 1)));
-        scan.range_min(static_cast<float>(r.range_min));
-        scan.range_max(static_cast<float>(r.range_max));
-        scan.ranges(r.ranges);
-        scans_.write(scan);
+      case RecordKind::Laser:
+        scans_.write(laser_message(data_.lasers[record.index], settings_.frames.laser));
         ++health_.counter("scans");
         break;
-      }
-      case RecordKind::Imu: {
-        sensor_msgs::msg::Imu imu;
-        imu.header(header(data_.imus[record.index].stamp, settings_.body_frame));
-        imu.orientation(quaternion(data_.imus[record.index].orientation));
-        imu.angular_velocity_covariance()[0] = -1;  // not measured, as REP 145 says
-        imu.linear_acceleration_covariance()[0] = -1;
-        imus_.write(imu);
+      case RecordKind::Imu:
+        imus_.write(imu_message(data_.imus[record.index], settings_.frames.base_link));
         ++health_.counter("imu");
         break;
-      }
-      case RecordKind::Gps: {
-        const auto& r = data_.fixes[record.index];
-        sensor_msgs::msg::NavSatFix fix;
-        fix.header(header(r.stamp, settings_.gps_frame));
-        fix.status().status(sensor_msgs::msg::NavSatStatus_Constants::STATUS_FIX);
-        fix.status().service(sensor_msgs::msg::NavSatStatus_Constants::SERVICE_GPS);
-        fix.latitude(r.latitude);
-        fix.longitude(r.longitude);
-        fix.altitude(r.altitude);
-        fix.position_covariance()[0] = fix.position_covariance()[4] = r.horizontal_sigma * r.horizontal_sigma;
-        fix.position_covariance()[8] = r.vertical_sigma * r.vertical_sigma;
-        fix.position_covariance_type(sensor_msgs::msg::NavSatFix_Constants::COVARIANCE_TYPE_DIAGONAL_KNOWN);
-        fixes_.write(fix);
+      case RecordKind::Gps:
+        fixes_.write(fix_message(data_.fixes[record.index], settings_.frames.gps));
         ++health_.counter("fixes");
         break;
-      }
-      case RecordKind::Baro: {
-        sensor_msgs::msg::FluidPressure pressure;
-        pressure.header(header(data_.baros[record.index].stamp, settings_.body_frame));
-        pressure.fluid_pressure(data_.baros[record.index].pressure);
-        pressures_.write(pressure);
+      case RecordKind::Baro:
+        pressures_.write(pressure_message(data_.baros[record.index], settings_.frames.base_link));
         ++health_.counter("pressures");
         break;
-      }
-      case RecordKind::Truth: {
-        if (!settings_.truth) break;
-        const auto& r = data_.truths[record.index];
-        geometry_msgs::msg::PoseStamped pose;
-        pose.header(header(r.stamp, settings_.map_frame));
-        pose.pose().position().x(r.position.x());
-        pose.pose().position().y(r.position.y());
-        pose.pose().position().z(r.position.z());
-        pose.pose().orientation(quaternion(r.orientation));
-        truths_.write(pose);
+      case RecordKind::Truth:
+        if (settings_.truth) truths_.write(truth_message(data_.truths[record.index], settings_.frames.map));
         break;
-      }
     }
   }
 

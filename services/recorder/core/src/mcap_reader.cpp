@@ -242,8 +242,11 @@ void McapReader::handle_record(uint8_t opcode, const uint8_t* content, size_t si
     on_message(message, channel->second);
   } else if (opcode == format::kChunk) {
     handle_chunk(content, size, offset, on_message);
+  } else if (opcode == format::kMetadata) {
+    std::string name = in.get_string();
+    metadata_[std::move(name)] = in.get_string_map();
   }
-  // Other records (indexes, attachments, metadata) carry no messages; unknown opcodes are
+  // Other records (indexes, attachments) carry no messages; unknown opcodes are
   // skipped, as the spec asks of readers.
 }
 

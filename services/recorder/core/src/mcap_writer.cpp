@@ -85,6 +85,16 @@ uint16_t McapWriter::add_channel(uint16_t schema_id, const std::string& topic, c
   return channels_.back().id;
 }
 
+void McapWriter::add_metadata(const std::string& name, const std::map<std::string, std::string>& entries) {
+  Bytes content;
+  put_string(content, name);
+  put_string_map(content, entries);
+  Bytes record;
+  put_record(record, format::kMetadata, content);
+  metadata_indexes_.push_back({offset_, record.size(), name});
+  emit(record);
+}
+
 void McapWriter::write(uint16_t channel_id, uint32_t sequence, uint64_t log_time, uint64_t publish_time,
                        const uint8_t* data, size_t size) {
   if (channel_id == 0 || channel_id > channels_.size())
@@ -163,7 +173,7 @@ Bytes McapWriter::summary_section(uint64_t summary_start, Bytes& offsets_section
     put_record(offsets_section, format::kSummaryOffset, content);
     put_raw(summary, records.data(), records.size());
   };
-  Bytes schemas, channels, statistics, chunk_indexes;
+  Bytes schemas, channels, statistics, chunk_indexes, metadata_indexes;
   for (const auto& schema : schemas_) {
     const Bytes record = schema_record(schema);
     put_raw(schemas, record.data(), record.size());
@@ -177,7 +187,7 @@ Bytes McapWriter::summary_section(uint64_t summary_start, Bytes& offsets_section
   put<uint16_t>(content, statistics_.schema_count);
   put<uint32_t>(content, statistics_.channel_count);
   put<uint32_t>(content, 0);  // attachments
-  put<uint32_t>(content, 0);  // metadata records
+  put<uint32_t>(content, static_cast<uint32_t>(metadata_indexes_.size()));
   put<uint32_t>(content, statistics_.chunk_count);
   put<uint64_t>(content, statistics_.message_start_time);
   put<uint64_t>(content, statistics_.message_end_time);
@@ -204,10 +214,18 @@ Bytes McapWriter::summary_section(uint64_t summary_start, Bytes& offsets_section
     put<uint64_t>(record, index.uncompressed_size);
     put_record(chunk_indexes, format::kChunkIndex, record);
   }
+  for (const auto& index : metadata_indexes_) {
+    Bytes record;
+    put<uint64_t>(record, index.offset);
+    put<uint64_t>(record, index.length);
+    put_string(record, index.name);
+    put_record(metadata_indexes, format::kMetadataIndex, record);
+  }
   group(format::kSchema, schemas);
   group(format::kChannel, channels);
   group(format::kStatistics, statistics);
   group(format::kChunkIndex, chunk_indexes);
+  group(format::kMetadataIndex, metadata_indexes);
   return summary;
 }
 

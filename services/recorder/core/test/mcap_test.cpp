@@ -44,6 +44,7 @@ void write_file(const fs::path& path, const std::vector<Sample>& all, McapWriter
   const uint16_t schema = writer.add_schema("std_msgs/msg/String", "ros2msg", "string data\n");
   writer.add_channel(schema, "/one", "cdr", {{"offered_qos_profiles", ""}});
   writer.add_channel(schema, "/two", "cdr", {});
+  writer.add_metadata("flight", {{"scenario", "4"}, {"origin", "52.5 13.4 34"}});
   for (const auto& s : all) writer.write(s.channel, s.sequence, s.log_time, s.publish_time, s.data.data(), s.data.size());
   if (close) {
     writer.close();
@@ -115,6 +116,9 @@ TEST_P(McapRoundTrip, MessagesSchemasAndSummaryReadBackExactly) {
   for (const auto& chunk : summary->chunks) EXPECT_EQ(chunk.compression, compression_name(GetParam()));
 
   expect_equal(all, read_all(path, false));
+  McapReader streamed(path.string());
+  streamed.read_messages([](const McapMessage&, const McapChannel&) {});
+  EXPECT_EQ(streamed.metadata().at("flight").at("origin"), "52.5 13.4 34");
   fs::remove(path);
 }
 

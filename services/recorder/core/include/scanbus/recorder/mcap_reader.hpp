@@ -56,6 +56,8 @@ class McapReader {
   // Schemas and channels met so far by read_messages().
   const std::map<uint16_t, McapSchema>& schemas() const { return schemas_; }
   const std::map<uint16_t, McapChannel>& channels() const { return channels_; }
+  // Metadata records met so far by read_messages(), by name.
+  const std::map<std::string, std::map<std::string, std::string>>& metadata() const { return metadata_; }
 
  private:
   void stream(const MessageHandler& on_message);
@@ -71,6 +73,7 @@ class McapReader {
   std::string profile_, library_;
   std::map<uint16_t, McapSchema> schemas_;
   std::map<uint16_t, McapChannel> channels_;
+  std::map<std::string, std::map<std::string, std::string>> metadata_;
 };
 
 }  // namespace scanbus::recorder

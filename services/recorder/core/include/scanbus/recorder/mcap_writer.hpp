@@ -35,6 +35,8 @@ class McapWriter {
   uint16_t add_schema(const std::string& name, const std::string& encoding, const std::string& data);
   uint16_t add_channel(uint16_t schema_id, const std::string& topic, const std::string& message_encoding,
                        const std::map<std::string, std::string>& metadata);
+  // A Metadata record (name and key-value pairs), indexed in the summary.
+  void add_metadata(const std::string& name, const std::map<std::string, std::string>& entries);
   void write(uint16_t channel_id, uint32_t sequence, uint64_t log_time, uint64_t publish_time, const uint8_t* data,
              size_t size);
   // Writes the open chunk (if any) and hands everything to the operating system.
@@ -64,6 +66,11 @@ class McapWriter {
   std::vector<McapChannel> channels_;
   McapStatistics statistics_;
   std::vector<ChunkIndex> chunk_indexes_;
+  struct MetadataIndex {
+    uint64_t offset, length;
+    std::string name;
+  };
+  std::vector<MetadataIndex> metadata_indexes_;
   // The open chunk: its records, time span and each channel's (log time, offset) index.
   std::vector<uint8_t> chunk_records_;
   uint64_t chunk_start_time_ = 0, chunk_end_time_ = 0;

@@ -1,0 +1,208 @@
+#include "mav_messages.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "FluidPressurePubSubTypes.h"
+#include "ImuPubSubTypes.h"
+#include "LaserScanPubSubTypes.h"
+#include "NavSatFixPubSubTypes.h"
+#include "PoseStampedPubSubTypes.h"
+#include "cdr.hpp"
+#include "recording.hpp"
+#include "scanbus/clock.hpp"
+#include "scanbus/recorder/mcap_reader.hpp"
+#include "scanbus/recorder/mcap_writer.hpp"
+#include "scanbus/recorder/ros2msg.hpp"
+
+namespace scanbus::sensor_replay {
+
+namespace {
+
+constexpr char kMetadataName[] = "scanbus_mav_log";
+
+std_msgs::msg::Header header(double stamp, const std::string& frame) {
+  std_msgs::msg::Header h;
+  h.stamp(to_stamp(stamp));
+  h.frame_id(frame);
+  return h;
+}
+
+geometry_msgs::msg::Quaternion quaternion(const Eigen::Quaterniond& q) {
+  geometry_msgs::msg::Quaternion message;
+  message.x(q.x());
+  message.y(q.y());
+  message.z(q.z());
+  message.w(q.w());
+  return message;
+}
+
+Eigen::Quaterniond quaternion(const geometry_msgs::msg::Quaternion& q) { return {q.w(), q.x(), q.y(), q.z()}; }
+
+}  // namespace
+
+sensor_msgs::msg::LaserScan laser_message(const LaserRecord& r, const std::string& frame) {
+  sensor_msgs::msg::LaserScan scan;
+  scan.header(header(r.stamp, frame));
+  scan.angle_min(static_cast<float>(r.angle_min));
+  scan.angle_increment(static_cast<float>(r.angle_increment));
+  scan.angle_max(static_cast<float>(r.angle_min + r.angle_increment * (r.ranges.size() - 1)));
+  scan.range_min(static_cast<float>(r.range_min));
+  scan.range_max(static_cast<float>(r.range_max));
+  scan.ranges(r.ranges);
+  return scan;
+}
+
+sensor_msgs::msg::Imu imu_message(const ImuRecord& r, const std::string& frame) {
+  sensor_msgs::msg::Imu imu;
+  imu.header(header(r.stamp, frame));
+  imu.orientation(quaternion(r.orientation));
+  imu.angular_velocity_covariance()[0] = -1;  // not measured, as REP 145 says
+  imu.linear_acceleration_covariance()[0] = -1;
+  return imu;
+}
+
+sensor_msgs::msg::NavSatFix fix_message(const GpsRecord& r, const std::string& frame) {
+  sensor_msgs::msg::NavSatFix fix;
+  fix.header(header(r.stamp, frame));
+  fix.status().status(sensor_msgs::msg::NavSatStatus_Constants::STATUS_FIX);
+  fix.status().service(sensor_msgs::msg::NavSatStatus_Constants::SERVICE_GPS);
+  fix.latitude(r.latitude);
+  fix.longitude(r.longitude);
+  fix.altitude(r.altitude);
+  fix.position_covariance()[0] = fix.position_covariance()[4] = r.horizontal_sigma * r.horizontal_sigma;
+  fix.position_covariance()[8] = r.vertical_sigma * r.vertical_sigma;
+  fix.position_covariance_type(sensor_msgs::msg::NavSatFix_Constants::COVARIANCE_TYPE_DIAGONAL_KNOWN);
+  return fix;
+}
+
+sensor_msgs::msg::FluidPressure pressure_message(const BaroRecord& r, const std::string& frame) {
+  sensor_msgs::msg::FluidPressure pressure;
+  pressure.header(header(r.stamp, frame));
+  pressure.fluid_pressure(r.pressure);
+  return pressure;
+}
+
+geometry_msgs::msg::PoseStamped truth_message(const TruthRecord& r, const std::string& frame) {
+  geometry_msgs::msg::PoseStamped pose;
+  pose.header(header(r.stamp, frame));
+  pose.pose().position().x(r.position.x());
+  pose.pose().position().y(r.position.y());
+  pose.pose().position().z(r.position.z());
+  pose.pose().orientation(quaternion(r.orientation));
+  return pose;
+}
+
+void write_mav_mcap(const std::string& path, const MavLog& log, const MavFrames& frames) {
+  using namespace recorder;
+  McapWriter writer(path, {});
+  std::map<std::string, std::string> meta;
+  for (const auto& [name, values] : log.meta) {
+    std::string text;
+    char number[32];
+    for (const double value : values) {
+      std::snprintf(number, sizeof(number), "%.17g", value);
+      text += (text.empty() ? "" : " ") + std::string(number);
+    }
+    meta[name] = text;
+  }
+  writer.add_metadata(kMetadataName, meta);
+  std::map<RecordKind, uint16_t> channels;
+  auto channel = [&](RecordKind kind, const std::string& topic) {
+    const TopicInfo& info = topic_info(topic);
+    const std::string ros_type = ros_type_of_dds_type(info.type);
+    const uint16_t schema = writer.add_schema(ros_type, "ros2msg", Ros2MsgCatalogue::scanbus().schema(ros_type));
+    channels[kind] = writer.add_channel(schema, ros_topic_of_dds_topic(topic), "cdr",
+                                        {{"offered_qos_profiles", offered_qos_profiles(info.qos)}});
+  };
+  channel(RecordKind::Laser, "rt/scan");
+  channel(RecordKind::Imu, "rt/imu");
+  channel(RecordKind::Gps, "rt/fix");
+  channel(RecordKind::Baro, "rt/pressure");
+  channel(RecordKind::Truth, "rt/truth/pose");
+  std::map<RecordKind, uint32_t> sequence;
+  for (const RecordRef& record : records_in_time_order(log)) {
+    std::vector<uint8_t> bytes;
+    switch (record.kind) {
+      case RecordKind::Laser:
+        bytes = to_cdr<sensor_msgs::msg::LaserScanPubSubType>(laser_message(log.lasers[record.index], frames.laser));
+        break;
+      case RecordKind::Imu:
+        bytes = to_cdr<sensor_msgs::msg::ImuPubSubType>(imu_message(log.imus[record.index], frames.base_link));
+        break;
+      case RecordKind::Gps:
+        bytes = to_cdr<sensor_msgs::msg::NavSatFixPubSubType>(fix_message(log.fixes[record.index], frames.gps));
+        break;
+      case RecordKind::Baro:
+        bytes = to_cdr<sensor_msgs::msg::FluidPressurePubSubType>(pressure_message(log.baros[record.index], frames.base_link));
+        break;
+      case RecordKind::Truth:
+        bytes = to_cdr<geometry_msgs::msg::PoseStampedPubSubType>(truth_message(log.truths[record.index], frames.map));
+        break;
+    }
+    const auto time = static_cast<uint64_t>(std::llround(record.stamp * 1e9));
+    writer.write(channels[record.kind], sequence[record.kind]++, time, time, bytes.data(), bytes.size());
+  }
+  writer.close();
+}
+
+MavLog read_mav_mcap(const std::string& path) {
+  using namespace recorder;
+  MavLog log;
+  try {
+    McapReader reader(path);
+    reader.read_messages([&](const McapMessage& m, const McapChannel& channel) {
+      const std::string topic = dds_topic_of_ros_topic(channel.topic);
+      if (topic == "rt/scan") {
+        const auto scan = from_cdr<sensor_msgs::msg::LaserScanPubSubType>(m.data, m.size);
+        log.lasers.push_back({to_seconds(scan.header().stamp()), scan.angle_min(), scan.angle_increment(),
+                              scan.range_min(), scan.range_max(), scan.ranges()});
+      } else if (topic == "rt/imu") {
+        const auto imu = from_cdr<sensor_msgs::msg::ImuPubSubType>(m.data, m.size);
+        log.imus.push_back({to_seconds(imu.header().stamp()), quaternion(imu.orientation())});
+      } else if (topic == "rt/fix") {
+        const auto fix = from_cdr<sensor_msgs::msg::NavSatFixPubSubType>(m.data, m.size);
+        log.fixes.push_back({to_seconds(fix.header().stamp()), fix.latitude(), fix.longitude(), fix.altitude(),
+                             std::sqrt(fix.position_covariance()[0]), std::sqrt(fix.position_covariance()[8])});
+      } else if (topic == "rt/pressure") {
+        const auto pressure = from_cdr<sensor_msgs::msg::FluidPressurePubSubType>(m.data, m.size);
+        log.baros.push_back({to_seconds(pressure.header().stamp()), pressure.fluid_pressure()});
+      } else if (topic == "rt/truth/pose") {
+        const auto pose = from_cdr<geometry_msgs::msg::PoseStampedPubSubType>(m.data, m.size);
+        const auto& p = pose.pose().position();
+        log.truths.push_back({to_seconds(pose.header().stamp()), {p.x(), p.y(), p.z()}, quaternion(pose.pose().orientation())});
+      }
+    });
+    const auto meta = reader.metadata().find(kMetadataName);
+    if (meta == reader.metadata().end())
+      throw MavLogError(path + ": no '" + kMetadataName + "' metadata (laser mount, origin): not a MAV recording");
+    for (const auto& [name, text] : meta->second) {
+      std::istringstream values(text);
+      for (double value; values >> value;) log.meta[name].push_back(value);
+    }
+  } catch (const McapError& error) {
+    throw MavLogError(error.what());
+  } catch (const std::runtime_error& error) {
+    if (dynamic_cast<const MavLogError*>(&error)) throw;
+    throw MavLogError(path + ": " + error.what());
+  }
+  if (log.lasers.empty()) throw MavLogError(path + ": no LaserScan messages on /scan");
+  return log;
+}
+
+namespace {
+bool is_mcap(const std::string& path) { return path.size() > 5 && path.compare(path.size() - 5, 5, ".mcap") == 0; }
+}  // namespace
+
+MavLog load_mav_log(const std::string& path) { return is_mcap(path) ? read_mav_mcap(path) : read_mav_log(path); }
+
+void save_mav_log(const std::string& path, const MavLog& log) {
+  if (is_mcap(path)) {
+    write_mav_mcap(path, log);
+  } else {
+    write_mav_log(path, log);
+  }
+}
+
+}  // namespace scanbus::sensor_replay
