@@ -2,14 +2,17 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <sstream>
 
 #include "backtransform_plot.hpp"
 #include "commands.hpp"
+#include "laser_mcap.hpp"
 #include "scanbus/scan_matcher/laser_log.hpp"
 #include "scanbus/scan_matcher/pl_icp.hpp"
 
@@ -49,16 +52,52 @@ void write_trajectory(const std::string& path, const std::vector<double>& stamps
   if (!out) throw std::runtime_error(path + ": cannot write the trajectory");
 }
 
+// The Freiburg metric over all relations and over those within max_span, as text or one
+// JSON object (with `extra` merged in).
+void print_scores(const std::vector<double>& stamps, const std::vector<Pose2>& poses,
+                  const std::vector<Relation>& relations, double max_span, bool json, nlohmann::json extra) {
+  const RelationErrors all = evaluate_relations(stamps, poses, relations);
+  const RelationErrors short_span = evaluate_relations(stamps, poses, relations, max_span);
+  if (json) {
+    extra.update({{"translational_error_m", stats_json(all.translational, 1)},
+                  {"rotational_error_deg", stats_json(all.rotational, 180 / M_PI)},
+                  {"relations", all.translational.count},
+                  {"relations_missing", all.missing},
+                  {"short_relations", {{"max_span_s", max_span},
+                                       {"relations", short_span.translational.count},
+                                       {"translational_error_m", stats_json(short_span.translational, 1)},
+                                       {"rotational_error_deg", stats_json(short_span.rotational, 180 / M_PI)}}}});
+    std::cout << extra << "\n";
+    return;
+  }
+  auto line = [](const char* name, const RelationErrors& e) {
+    std::printf("%s: %zu relations, translational %.3f +- %.3f m (max %.3f), rotational %.2f +- %.2f deg (max %.2f)\n",
+                name, e.translational.count, e.translational.mean, e.translational.std, e.translational.max,
+                e.rotational.mean * 180 / M_PI, e.rotational.std * 180 / M_PI, e.rotational.max * 180 / M_PI);
+  };
+  line("all relations", all);
+  char name[64];
+  std::snprintf(name, sizeof(name), "relations within %.0f s", max_span);
+  line(name, short_span);
+  if (all.missing) std::printf("%zu relations name a scan without a pose\n", all.missing);
+}
+
 int run_eval(const EvalOptions& options) {
   std::vector<LaserRecord> records;
   std::vector<Relation> relations;
   MatcherSettings settings;
   try {
     settings = load_matcher_settings(options.config);
-    records = read_carmen_log(options.log);
+    records = load_laser_log(options.log);
     relations = read_relations(options.relations);
   } catch (const std::runtime_error& e) {  // LogError, ConfigError
     std::cerr << "scanbus scanmatch eval: " << e.what() << "\n";
+    return 2;
+  }
+  if (options.odometry_guess && std::all_of(records.begin(), records.end(), [](const LaserRecord& r) {
+        return r.odometry.x == 0 && r.odometry.y == 0 && r.odometry.theta == 0;
+      })) {
+    std::cerr << "scanbus scanmatch eval: " << options.log << " carries no odometry for --odometry-guess\n";
     return 2;
   }
   const bool progress = !options.json && isatty(STDOUT_FILENO);
@@ -82,38 +121,68 @@ int run_eval(const EvalOptions& options) {
   }
   if (progress) std::printf("\n");
   if (!options.trajectory.empty()) write_trajectory(options.trajectory, stamps, poses);
-  const RelationErrors all = evaluate_relations(stamps, poses, relations);
-  const RelationErrors short_span = evaluate_relations(stamps, poses, relations, options.max_span);
   const double rate = static_cast<double>(records.size()) / std::max(matching_seconds, 1e-9);
-  if (options.json) {
-    std::cout << nlohmann::json{{"translational_error_m", stats_json(all.translational, 1)},
-                                {"rotational_error_deg", stats_json(all.rotational, 180 / M_PI)},
-                                {"relations", all.translational.count},
-                                {"relations_missing", all.missing},
-                                {"short_relations", {{"max_span_s", options.max_span},
-                                                     {"relations", short_span.translational.count},
-                                                     {"translational_error_m", stats_json(short_span.translational, 1)},
-                                                     {"rotational_error_deg", stats_json(short_span.rotational, 180 / M_PI)}}},
-                                {"scans", records.size()},
-                                {"failed_matches", failed},
-                                {"odometry_guess", options.odometry_guess},
-                                {"scans_per_second", rate}}
-              << "\n";
-    return 0;
-  }
-  auto line = [](const char* name, const RelationErrors& e) {
-    std::printf("%s: %zu relations, translational %.3f +- %.3f m (max %.3f), rotational %.2f +- %.2f deg (max %.2f)\n",
-                name, e.translational.count, e.translational.mean, e.translational.std, e.translational.max,
-                e.rotational.mean * 180 / M_PI, e.rotational.std * 180 / M_PI, e.rotational.max * 180 / M_PI);
-  };
-  line("all relations", all);
-  char name[64];
-  std::snprintf(name, sizeof(name), "relations within %.0f s", options.max_span);
-  line(name, short_span);
-  std::printf("%zu scans, %zu failed matches, %.0f scans per second%s\n", records.size(), failed, rate,
-              options.odometry_guess ? ", odometry as initial guess" : "");
+  print_scores(stamps, poses, relations, options.max_span, options.json,
+               {{"scans", records.size()}, {"failed_matches", failed}, {"odometry_guess", options.odometry_guess},
+                {"scans_per_second", rate}});
+  if (!options.json)
+    std::printf("%zu scans, %zu failed matches, %.0f scans per second%s\n", records.size(), failed, rate,
+                options.odometry_guess ? ", odometry as initial guess" : "");
   return 0;
 }
+
+struct ScoreOptions {
+  std::string trajectory, relations;
+  double max_span = 10.0;
+  bool json = false;
+};
+
+// A trajectory from elsewhere (the scan_matcher service's rt/scan_match, say) scored
+// against relations as `eval` scores its own.
+int run_score(const ScoreOptions& options) {
+  std::vector<double> stamps;
+  std::vector<Pose2> poses;
+  std::vector<Relation> relations;
+  try {
+    relations = read_relations(options.relations);
+    std::ifstream in(options.trajectory);
+    if (!in) throw LogError(options.trajectory + ": cannot open");
+    std::string text;
+    for (size_t line = 1; std::getline(in, text); ++line) {
+      if (text.empty() || text[0] == '#') continue;
+      std::istringstream fields(text);
+      double stamp;
+      Pose2 pose;
+      if (!(fields >> stamp >> pose.x >> pose.y >> pose.theta))
+        throw LogError(options.trajectory + ":" + std::to_string(line) + ": expected 'stamp x y theta'");
+      stamps.push_back(stamp);
+      poses.push_back(pose);
+    }
+  } catch (const std::runtime_error& e) {
+    std::cerr << "scanbus scanmatch score: " << e.what() << "\n";
+    return 2;
+  }
+  print_scores(stamps, poses, relations, options.max_span, options.json, {{"poses", poses.size()}});
+  return 0;
+}
+
+struct ConvertOptions {
+  std::string log, out, frame = "laser";
+};
+
+int run_convert(const ConvertOptions& options) {
+  std::vector<LaserRecord> records;
+  try {
+    records = read_carmen_log(options.log);
+  } catch (const LogError& e) {
+    std::cerr << "scanbus scanmatch convert: " << e.what() << "\n";
+    return 2;
+  }
+  write_laser_mcap(options.out, records, options.frame);
+  std::printf("wrote %s: %zu LaserScan messages on /scan\n", options.out.c_str(), records.size());
+  return 0;
+}
+
 
 struct BacktransformOptions {
   std::string log, config, out;
@@ -191,7 +260,7 @@ int run_backtransform(const BacktransformOptions& options) {
   MatcherSettings settings;
   try {
     settings = load_matcher_settings(options.config);
-    records = read_carmen_log(options.log);
+    records = load_laser_log(options.log);
   } catch (const std::runtime_error& e) {  // LogError, ConfigError
     std::cerr << "scanbus scanmatch backtransform: " << e.what() << "\n";
     return 2;
@@ -250,7 +319,7 @@ void add_scanmatch_command(CLI::App& app, int& exit_code) {
   auto* scanmatch = app.add_subcommand("scanmatch", "Laser scan matching (PL-ICP)");
   scanmatch->require_subcommand(1);
   auto* eval = scanmatch->add_subcommand("eval", "Match a CARMEN log's scans and score them against relations");
-  eval->add_option("--log", options.log, "CARMEN log (FLASER or ROBOTLASER1 lines)")->required();
+  eval->add_option("--log", options.log, "CARMEN log (FLASER or ROBOTLASER1 lines), or an MCAP recording of /scan")->required();
   eval->add_option("--relations", options.relations, "Relations file (t1 t2 x y z roll pitch yaw)")->required();
   eval->add_option("--config", options.config, "Service file with a scan_matcher.matcher section (default: built-in)");
   eval->add_option("--trajectory", options.trajectory, "Write the matched poses, one 'stamp x y theta' line per scan");
@@ -259,10 +328,25 @@ void add_scanmatch_command(CLI::App& app, int& exit_code) {
   eval->add_flag("--json", options.json, "Print one JSON object");
   on_run(*eval, exit_code, [] { return run_eval(options); });
 
+  static ScoreOptions score;
+  auto* scorer = scanmatch->add_subcommand("score", "Score a trajectory ('stamp x y theta' lines) against relations");
+  scorer->add_option("--trajectory", score.trajectory, "Poses, one 'stamp x y theta' line each")->required();
+  scorer->add_option("--relations", score.relations, "Relations file (t1 t2 x y z roll pitch yaw)")->required();
+  scorer->add_option("--max-span", score.max_span, "Also report relations at most this many seconds apart");
+  scorer->add_flag("--json", score.json, "Print one JSON object");
+  on_run(*scorer, exit_code, [] { return run_score(score); });
+
+  static ConvertOptions convert;
+  auto* converter = scanmatch->add_subcommand("convert", "Convert a CARMEN log's scans to an MCAP recording of /scan");
+  converter->add_option("--log", convert.log, "CARMEN log (FLASER or ROBOTLASER1 lines)")->required();
+  converter->add_option("--out", convert.out, "MCAP file to write")->required();
+  converter->add_option("--frame", convert.frame, "LaserScan frame_id");
+  on_run(*converter, exit_code, [] { return run_convert(convert); });
+
   static BacktransformOptions back;
   auto* backtransform = scanmatch->add_subcommand(
       "backtransform", "BacktransformLaserScan: carry scan N+1 back onto scan N by the match and measure the fit");
-  backtransform->add_option("--log", back.log, "CARMEN log (FLASER or ROBOTLASER1 lines)")->required();
+  backtransform->add_option("--log", back.log, "CARMEN log (FLASER or ROBOTLASER1 lines), or an MCAP recording of /scan")->required();
   auto* row = backtransform->add_option("--row", back.row, "The pair (N, N+1), scans counted from 0");
   auto* all = backtransform->add_flag("--all", back.all, "Check every consecutive pair; list the suspect ones");
   row->excludes(all);
