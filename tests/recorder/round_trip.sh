@@ -8,9 +8,10 @@
 #    replay` refuses it naming the offset, `--salvage` publishes what precedes the cut;
 # 4. @mcap/core (Foxglove's reader, installed here with npm) reads both files: topics,
 #    counts, schemas and the SHA-256 of every payload match what was published, and
-#    Foxglove's ros2msg parser and CDR reader decode every message from the file's schema.
+#    Foxglove's ros2msg parser and CDR reader decode every message from the file's schema;
+#    so do the recorded samples (tests/data/*.mcap), with the counts `scanbus info` gives.
 set -euo pipefail
-scanbus=$1 probe=$2
+scanbus=$1 probe=$2 samples=${3:-}
 here=$(cd "$(dirname "$0")" && pwd)
 work=$(mktemp -d)
 cleanup() { jobs -p | xargs -r kill -9 2>/dev/null || true; rm -rf "$work"; }
@@ -137,3 +138,19 @@ for name in ("published", "replayed"):
               ("; ".join(problems) if problems else f"{len(hashes)} payloads identical and decoded, {channel['schema_name']}"))
 sys.exit(1 if failures else 0)
 PY
+
+# The recorded samples: @mcap/core's counts are ours, every message decodes and re-encodes.
+[ -n "$samples" ] || exit 0
+for file in "$samples"/*.mcap; do
+  node "$work/node/read_mcap.mjs" "$file" > "$work/sample.node.json"
+  "$scanbus" info --json "$file" > "$work/sample.info.json"
+  python3 - "$work" "$file" <<'PY'
+import json, sys
+work, name = sys.argv[1], sys.argv[2].rsplit("/", 1)[-1]
+theirs = {c["topic"]: c["count"] for c in json.load(open(f"{work}/sample.node.json"))["channels"]}
+ours = {t["topic"]: t["messages"] for t in json.load(open(f"{work}/sample.info.json"))["topics"]}
+if theirs != ours:
+    sys.exit(f"FAIL @mcap/core {name}: counts {theirs}, scanbus info {ours}")
+print(f"ok   @mcap/core {name}: {sum(theirs.values())} messages on {len(theirs)} topics decoded, as scanbus info counts")
+PY
+done
