@@ -170,6 +170,19 @@ int run_info(const InfoOptions& options) {
   return 0;
 }
 
+// Bad input (an unknown topic, a damaged or missing file) exits 2 like a bad command line,
+// with its one-line message; failures at run time stay 1.
+int input_errors_exit_2(const char* name, const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const ConfigError& e) {
+    std::cerr << "scanbus " << name << ": " << e.what() << "\n";
+  } catch (const McapError& e) {
+    std::cerr << "scanbus " << name << ": " << e.what() << "\n";
+  }
+  return 2;
+}
+
 }  // namespace
 
 void add_record_commands(CLI::App& app, int& exit_code) {
@@ -186,7 +199,7 @@ void add_record_commands(CLI::App& app, int& exit_code) {
                    "Read every topic RELIABLE (default: as the catalogue; sensor topics are best effort)");
   command->add_flag("--json", record.json, "One JSON summary line, no progress");
   add_dds_options(*command, record.dds);
-  on_run(*command, exit_code, [] { return run_record(record); });
+  on_run(*command, exit_code, [] { return input_errors_exit_2("record", [] { return run_record(record); }); });
 
   static ReplayOptions replay;
   command = app.add_subcommand("replay", "Publish an MCAP file's messages on their topics");
@@ -204,14 +217,14 @@ void add_record_commands(CLI::App& app, int& exit_code) {
       ->check(CLI::NonNegativeNumber);
   command->add_flag("--json", replay.json, "One JSON summary line, no progress");
   add_dds_options(*command, replay.dds);
-  on_run(*command, exit_code, [] { return run_replay(replay); });
+  on_run(*command, exit_code, [] { return input_errors_exit_2("replay", [] { return run_replay(replay); }); });
 
   static InfoOptions info;
   command = app.add_subcommand("info", "Topics, types, counts and time span of an MCAP file");
   command->add_option("file", info.file, "MCAP file")->required()->check(CLI::ExistingFile);
   command->add_flag("--salvage", info.salvage, "Report what precedes damage instead of refusing the file");
   command->add_flag("--json", info.json, "One JSON object");
-  on_run(*command, exit_code, [] { return run_info(info); });
+  on_run(*command, exit_code, [] { return input_errors_exit_2("info", [] { return run_info(info); }); });
 }
 
 }  // namespace scanbus::cli

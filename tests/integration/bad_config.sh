@@ -28,6 +28,16 @@ expect_error 2 "key 'qos.rt/no_such_topic' names an unknown topic" -- "$probe" s
 
 expect_error 2 "unknown service 'nope'" -- "$scanbus" run nope
 
+# Recordings: an unknown topic, a file that is not MCAP, a cut file; each one clear line.
+printf 'recorder:\n  out: %s\n  topics: [rt/nope]\n' "$work/x.mcap" > "$work/recorder.yaml"
+expect_error 2 "key 'recorder.topics' topic 'rt/nope' is not in the topic catalogue" -- "$scanbus" run recorder --config "$work/recorder.yaml"
+expect_error 2 "topic '/nope' is not in the topic catalogue" -- "$scanbus" record --topics /nope --out "$work/x.mcap"
+echo "not a recording" > "$work/text.mcap"
+expect_error 2 "not an MCAP file" -- "$scanbus" replay "$work/text.mcap"
+head -c 100000 "$(dirname "$0")/../data/mit_csail.mcap" > "$work/cut.mcap"
+expect_error 2 "at offset [0-9]* needs [0-9]* bytes" -- "$scanbus" info "$work/cut.mcap"
+expect_error 2 "no LaserScan messages\|at offset" -- "$scanbus" scanmatch eval --log "$work/cut.mcap" --relations "$(dirname "$0")/../data/mit_csail.relations"
+
 # Every shipped config is valid for its service.
 for config in "$(dirname "$0")"/../../config/services/*.yaml "$(dirname "$0")"/../../config/mav/*.yaml; do
   service=$(basename "$config" .yaml)
