@@ -33,7 +33,7 @@ int run_record(const RecordOptions& options) {
   StopSignal::install();
   recorder::RecorderSettings settings;
   settings.out = options.out;
-  for (const auto& topic : options.topics) settings.topics.push_back(recorder::catalogue_topic(topic));
+  settings.topics = options.topics;  // checked against the catalogue by Recording
   settings.reliable = options.reliable;
   settings.writer.compression = recorder::compression_from_name(options.compression);
   settings.writer.chunk_size = static_cast<size_t>(options.chunk_size * 1048576);
@@ -42,13 +42,18 @@ int run_record(const RecordOptions& options) {
   recorder::Recording recording(participant, settings, log);
   const bool progress = !options.json && isatty(STDOUT_FILENO);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.duration);
-  while (!StopSignal::wait_for(std::chrono::milliseconds(200))) {
+  while (!StopSignal::wait_for(std::chrono::milliseconds(200)) && recording.failure().empty()) {
     if (progress) std::printf("\rrecording: %lu messages, %.1f MB", static_cast<unsigned long>(recording.messages()),
                               recording.bytes() / 1e6), std::fflush(stdout);
     if (options.duration > 0 && std::chrono::steady_clock::now() > deadline) break;
   }
-  recording.stop();
   if (progress) std::printf("\r%60s\r", "");
+  if (!recording.failure().empty()) {
+    std::cerr << "scanbus record: " << recording.failure() << " (" << recording.messages()
+              << " messages recorded before)\n";
+    return 1;
+  }
+  recording.stop();
   const auto counts = recording.counts_by_topic();
   if (options.json) {
     std::cout << nlohmann::json{{"file", options.out}, {"messages", recording.messages()},
@@ -71,6 +76,8 @@ struct ReplayOptions {
 
 int run_replay(ReplayOptions options) {
   StopSignal::install();
+  if (options.settings.rate > 0 && options.settings.rate < 0.001)
+    throw ConfigError("--rate: 0 (as fast as possible) or at least 0.001, got " + std::to_string(options.settings.rate));
   if (options.start >= 0) options.settings.start = options.start;
   if (options.end >= 0) options.settings.end = options.end;
   auto log = make_logger("replay", options.json ? "warn" : "info");

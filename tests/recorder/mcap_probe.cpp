@@ -3,14 +3,13 @@
 // with such a list.
 //   mcap_probe publish COUNT EXPECTED   one topic per type, COUNT samples each, RELIABLE
 //   mcap_probe receive EXPECTED SECONDS exit 0 when everything arrived intact and in order
-#include <fastdds/rtps/common/SerializedPayload.h>
-
 #include <fstream>
 #include <iostream>
 #include <map>
 #include <set>
 #include <sstream>
 
+#include "cdr.hpp"
 #include "raw_endpoints.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/recorder/ros2msg.hpp"
@@ -68,8 +67,8 @@ std::vector<const TopicInfo*> topic_per_type() {
   return topics;
 }
 
-// Serialized by the generated code, padded with zeros to 4 bytes as DDS sends it (the
-// generated writer would leave stale bytes in alignment gaps), and published raw: the
+// Serialized by the generated code (to_cdr pads with zeros to 4 bytes, as DDS sends it;
+// the generated writer would leave stale bytes in alignment gaps) and published raw: the
 // bytes on the wire are exactly the ones written to EXPECTED.
 template <class PubSubType>
 void publish_type(Participant& participant, const TopicInfo& info, uint32_t count, std::ostream& expected) {
@@ -79,15 +78,10 @@ void publish_type(Participant& participant, const TopicInfo& info, uint32_t coun
     if (std::chrono::steady_clock::now() > deadline) throw std::runtime_error(info.name + ": no reader matched within 20 s");
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
-  PubSubType type;
   for (uint32_t i = 0; i < count; ++i) {
-    auto sample = known_sample<typename PubSubType::type>(i);
-    eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(&sample)() + 4);
-    type.serialize(&sample, &payload);
-    recorder::RawSample bytes(payload.data, payload.data + payload.length);
-    bytes.resize((bytes.size() + 3) / 4 * 4, 0);
+    const recorder::RawSample bytes = recorder::to_cdr<PubSubType>(known_sample<typename PubSubType::type>(i));
     expected << info.name << " " << hex(bytes.data(), bytes.size()) << "\n";
-    if (!writer.write(bytes)) throw std::runtime_error(info.name + ": write refused");
+    if (writer.write(bytes) != recorder::RawWriter::Result::Written) throw std::runtime_error(info.name + ": write refused");
   }
   if (!writer.wait_for_acknowledgments(std::chrono::seconds(20)))
     throw std::runtime_error(info.name + ": not acknowledged within 20 s");

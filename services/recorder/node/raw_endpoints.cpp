@@ -21,7 +21,7 @@ bool RawType::serialize(void* data, SerializedPayload_t* payload) {
   if (sample.size() < 4 || sample.size() > payload->max_size) return false;
   std::memcpy(payload->data, sample.data(), sample.size());
   payload->length = static_cast<uint32_t>(sample.size());
-  payload->encapsulation = sample[1] == 0 ? CDR_BE : CDR_LE;  // the representation identifier's low byte
+  payload->encapsulation = (sample[1] & 1) ? CDR_LE : CDR_BE;  // the representation identifier's endianness bit
   return true;
 }
 
@@ -58,7 +58,12 @@ RawWriter::RawWriter(Participant& participant, const std::string& topic, const s
 
 RawWriter::~RawWriter() { delete_writer(participant_, writer_); }
 
-bool RawWriter::write(const RawSample& sample) { return writer_->write(const_cast<RawSample*>(&sample)); }
+RawWriter::Result RawWriter::write(const RawSample& sample) {
+  if (sample.size() < 4) return Result::Refused;  // not even a CDR encapsulation header
+  const auto code = writer_->write(const_cast<RawSample*>(&sample), eprosima::fastrtps::rtps::c_InstanceHandle_Unknown);
+  if (code == ReturnCode_t::RETCODE_OK) return Result::Written;
+  return code == ReturnCode_t::RETCODE_TIMEOUT ? Result::QueueFull : Result::Refused;
+}
 
 size_t RawWriter::matched_readers() const {
   dds::PublicationMatchedStatus status;

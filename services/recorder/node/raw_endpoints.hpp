@@ -53,8 +53,10 @@ class RawWriter {
   RawWriter(const RawWriter&) = delete;
   RawWriter& operator=(const RawWriter&) = delete;
 
-  // False when the writer's queue stayed full for the QoS's max_blocking_time.
-  bool write(const RawSample& sample);
+  enum class Result { Written, QueueFull, Refused };
+  // QueueFull: the queue stayed full for the QoS's max_blocking_time (try again);
+  // Refused: the sample cannot go out (too short to be CDR, or DDS refused it).
+  Result write(const RawSample& sample);
   size_t matched_readers() const;
   bool wait_for_acknowledgments(std::chrono::milliseconds timeout);
   const std::string& topic() const { return topic_; }

@@ -19,6 +19,11 @@ class RecorderService : public Service {
     while (!StopSignal::wait_for(std::chrono::milliseconds(200))) {
       messages = recording.messages();
       bytes = recording.bytes();
+      if (const std::string failure = recording.failure(); !failure.empty()) {
+        context_.health.error(failure);  // FAILED would need a restart anyway: exit and say why
+        context_.log->error("recording stopped: {}", failure);
+        return 1;
+      }
     }
     recording.stop();
     messages = recording.messages();

@@ -113,7 +113,8 @@ void Recording::write_loop() {
     changed_.wait_for(lock, flush_period, [&] { return !queue_.empty() || stopping_; });
     if (queue_.empty() && stopping_) break;
     try {
-      while (!queue_.empty()) {
+      // Flushing inside the drain too: under steady load the queue never empties.
+      while (!queue_.empty() && std::chrono::steady_clock::now() - last_flush < flush_period) {
         Pending next = std::move(queue_.front());
         queue_.pop_front();
         queued_bytes_ -= next.data.size();
@@ -155,6 +156,11 @@ void Recording::stop() {
   writer_.close();
   if (!failure_.empty()) throw McapError(failure_);
   log_->info("closed {}: {} messages", settings_.out, writer_.statistics().message_count);
+}
+
+std::string Recording::failure() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return failure_;
 }
 
 uint64_t Recording::messages() const {

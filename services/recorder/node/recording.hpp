@@ -45,6 +45,9 @@ class Recording {
 
   // Stops the readers, writes what is queued and closes a valid file; idempotent.
   void stop();
+  // The writing thread's error (the file system full, say); empty while all is well. After
+  // one, samples are no longer recorded and stop() throws it.
+  std::string failure() const;
   uint64_t messages() const;
   uint64_t bytes() const;
   std::map<std::string, uint64_t> counts_by_topic() const;

@@ -5,6 +5,7 @@
 #include <thread>
 
 #include "raw_endpoints.hpp"
+#include "scanbus/recorder/mcap.hpp"
 #include "scanbus/recorder/mcap_reader.hpp"
 #include "scanbus/recorder/ros2msg.hpp"
 #include "scanbus/service.hpp"
@@ -90,10 +91,17 @@ Survey survey(const ReplaySettings& settings, const std::shared_ptr<spdlog::logg
 
 ReplayResult replay(Participant& participant, const ReplaySettings& settings, std::shared_ptr<spdlog::logger> log,
                     const std::function<void(uint64_t, uint64_t)>& progress) {
+  if (settings.start && settings.end && *settings.end < *settings.start)
+    throw McapError("replay: --end " + std::to_string(*settings.end) + " is before --start " +
+                    std::to_string(*settings.start));
   const Survey plan = survey(settings, log);
   ReplayResult result;
   result.damage = plan.damage;
   if (!plan.damage.empty()) log->warn("salvaging: {}", plan.damage);
+  if (plan.messages == 0) {
+    log->warn("{}: no messages to replay (topics, --start and --end select none)", settings.file);
+    return result;
+  }
 
   std::map<uint16_t, std::unique_ptr<RawWriter>> writers;
   for (const auto& [channel, topic] : plan.topic_of_channel)
@@ -123,17 +131,25 @@ ReplayResult replay(Participant& participant, const ReplaySettings& settings, st
               return;
             if (!first_replayed) first_replayed = message.log_time;
             if (settings.rate > 0) {
-              // Signed: a file need not be in time order; an earlier message goes at once.
-              const auto since = std::max<int64_t>(0, static_cast<int64_t>(message.log_time - *first_replayed));
-              const auto due = wall_start + std::chrono::nanoseconds(static_cast<int64_t>(since / settings.rate));
+              // A file need not be in time order: an earlier message goes at once.
+              const double since = message.log_time > *first_replayed ? (message.log_time - *first_replayed) * 1e-9 : 0;
+              const auto due = wall_start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                std::chrono::duration<double>(since / settings.rate));
               while (std::chrono::steady_clock::now() < due) {
                 if (StopSignal::requested()) throw Stopped{};
                 std::this_thread::sleep_until(std::min(due, std::chrono::steady_clock::now() + std::chrono::milliseconds(50)));
               }
             }
             sample.assign(message.data, message.data + message.size);
-            while (!writer->second->write(sample)) {
+            RawWriter::Result written;
+            while ((written = writer->second->write(sample)) == RawWriter::Result::QueueFull) {
               if (StopSignal::requested()) throw Stopped{};  // readers slow: keep waiting, lose nothing
+            }
+            if (written == RawWriter::Result::Refused) {
+              if (result.skipped++ == 0)
+                log->warn("{}: a message of {} bytes on {} cannot be published (not CDR?); skipping such messages",
+                          settings.file, message.size, channel.topic);
+              return;
             }
             ++result.published;
             ++result.published_by_topic[writer->second->topic()];

@@ -20,7 +20,7 @@ namespace scanbus::recorder {
 
 struct ReplaySettings {
   std::string file;
-  double rate = 1.0;                 // times the recorded pace; 0 = as fast as possible
+  double rate = 1.0;                 // times the recorded pace (at least 0.001); 0 = as fast as possible
   bool loop = false;
   std::vector<std::string> topics;   // DDS or ROS names; empty: every channel
   std::optional<double> start, end;  // s after the file's first message
@@ -31,6 +31,7 @@ struct ReplaySettings {
 
 struct ReplayResult {
   uint64_t published = 0;
+  uint64_t skipped = 0;                                // messages DDS would not take (not CDR)
   std::map<std::string, uint64_t> published_by_topic;  // DDS names
   std::string damage;                                  // with salvage: what ended the file early
 };

@@ -27,7 +27,7 @@ void write_laser_mcap(const std::string& path, const std::vector<LaserRecord>& r
     scan.header().frame_id(frame);
     scan.angle_min(static_cast<float>(record.angle_min));
     scan.angle_increment(static_cast<float>(record.angle_increment));
-    scan.angle_max(static_cast<float>(record.angle_min + record.angle_increment * (record.ranges.size() - 1)));
+    scan.angle_max(static_cast<float>(record.angle_min + record.angle_increment * (record.ranges.empty() ? 0.0 : record.ranges.size() - 1.0)));
     scan.range_max(static_cast<float>(record.range_max));
     scan.ranges(record.ranges);
     const auto bytes = to_cdr<sensor_msgs::msg::LaserScanPubSubType>(scan);
@@ -60,8 +60,7 @@ std::vector<LaserRecord> read_laser_mcap(const std::string& path) {
 }
 
 std::vector<LaserRecord> load_laser_log(const std::string& path) {
-  const bool mcap = path.size() > 5 && path.compare(path.size() - 5, 5, ".mcap") == 0;
-  return mcap ? read_laser_mcap(path) : read_carmen_log(path);
+  return recorder::is_mcap_path(path) ? read_laser_mcap(path) : read_carmen_log(path);
 }
 
 }  // namespace scanbus::scan_matcher

@@ -47,7 +47,7 @@ sensor_msgs::msg::LaserScan laser_message(const LaserRecord& r, const std::strin
   scan.header(header(r.stamp, frame));
   scan.angle_min(static_cast<float>(r.angle_min));
   scan.angle_increment(static_cast<float>(r.angle_increment));
-  scan.angle_max(static_cast<float>(r.angle_min + r.angle_increment * (r.ranges.size() - 1)));
+  scan.angle_max(static_cast<float>(r.angle_min + r.angle_increment * (r.ranges.empty() ? 0.0 : r.ranges.size() - 1.0)));
   scan.range_min(static_cast<float>(r.range_min));
   scan.range_max(static_cast<float>(r.range_max));
   scan.ranges(r.ranges);
@@ -191,14 +191,12 @@ MavLog read_mav_mcap(const std::string& path) {
   return log;
 }
 
-namespace {
-bool is_mcap(const std::string& path) { return path.size() > 5 && path.compare(path.size() - 5, 5, ".mcap") == 0; }
-}  // namespace
-
-MavLog load_mav_log(const std::string& path) { return is_mcap(path) ? read_mav_mcap(path) : read_mav_log(path); }
+MavLog load_mav_log(const std::string& path) {
+  return recorder::is_mcap_path(path) ? read_mav_mcap(path) : read_mav_log(path);
+}
 
 void save_mav_log(const std::string& path, const MavLog& log) {
-  if (is_mcap(path)) {
+  if (recorder::is_mcap_path(path)) {
     write_mav_mcap(path, log);
   } else {
     write_mav_log(path, log);

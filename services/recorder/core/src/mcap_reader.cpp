@@ -83,13 +83,23 @@ McapChunkInfo parse_chunk_index(Cursor& in) {
 McapReader::McapReader(const std::string& path) : path_(path) {
   file_ = std::fopen(path.c_str(), "rb");
   if (!file_) throw McapError(path + ": cannot open (" + std::strerror(errno) + ")");
-  std::fseek(file_, 0, SEEK_END);
-  file_size_ = static_cast<uint64_t>(std::ftell(file_));
-  char magic[sizeof(format::kMagic)];
-  if (file_size_ < sizeof(magic) + kRecordHeader) {
+  try {
+    open_checked();
+  } catch (...) {
     std::fclose(file_);
-    throw McapError(path + ": not an MCAP file (" + std::to_string(file_size_) + " bytes, too short)");
+    file_ = nullptr;
+    throw;
   }
+}
+
+void McapReader::open_checked() {
+  const std::string& path = path_;
+  const long size = std::fseek(file_, 0, SEEK_END) == 0 ? std::ftell(file_) : -1;
+  if (size < 0) throw McapError(path + ": not a regular file (cannot seek)");
+  file_size_ = static_cast<uint64_t>(size);
+  char magic[sizeof(format::kMagic)];
+  if (file_size_ < sizeof(magic) + kRecordHeader)
+    throw McapError(path + ": not an MCAP file (" + std::to_string(file_size_) + " bytes, too short)");
   read_at(0, magic, sizeof(magic), "magic");
   uint8_t header[kRecordHeader];
   read_at(sizeof(magic), header, sizeof(header), "header");
@@ -97,10 +107,8 @@ McapReader::McapReader(const std::string& path) : path_(path) {
   const auto opcode = fields.get<uint8_t>();
   const auto length = fields.get<uint64_t>();
   if (std::memcmp(magic, format::kMagic, sizeof(magic)) != 0 || opcode != format::kHeader ||
-      length > file_size_ - sizeof(magic) - kRecordHeader) {
-    std::fclose(file_);
+      length > file_size_ - sizeof(magic) - kRecordHeader)
     throw McapError(path + ": not an MCAP file (no MCAP magic and header record at offset 0)");
-  }
   std::vector<uint8_t> content(length);
   read_at(sizeof(magic) + kRecordHeader, content.data(), content.size(), "header");
   Cursor in(content.data(), content.size(), sizeof(magic) + kRecordHeader, path + ": header");
@@ -270,6 +278,8 @@ void McapReader::handle_chunk(const uint8_t* content, size_t size, uint64_t offs
   while (!inner.done()) {
     const auto opcode = inner.get<uint8_t>();
     Cursor record = inner.get_span<uint64_t>();
+    if (opcode != format::kSchema && opcode != format::kChannel && opcode != format::kMessage)
+      throw McapError(what + " holds a " + hex(opcode) + " record (only schemas, channels and messages belong in chunks)");
     handle_record(opcode, record.here(), record.left(), offset, on_message);
   }
 }

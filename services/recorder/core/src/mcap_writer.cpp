@@ -57,12 +57,20 @@ McapWriter::~McapWriter() {
   } catch (const McapError&) {
     // A destructor cannot report; callers who care call close() themselves.
   }
+  if (file_) std::fclose(file_);  // after a failed write: what reached the file stays as it is
+}
+
+void McapWriter::check_writable() const {
+  if (!file_) throw McapError(path_ + ": written to after close");
+  if (failed_) throw McapError(path_ + ": an earlier write failed; the file ends at offset " + std::to_string(offset_));
 }
 
 void McapWriter::emit(const Bytes& bytes) {
-  if (!file_) throw McapError(path_ + ": written to after close");
-  if (!bytes.empty() && std::fwrite(bytes.data(), 1, bytes.size(), file_) != bytes.size())
+  check_writable();
+  if (!bytes.empty() && std::fwrite(bytes.data(), 1, bytes.size(), file_) != bytes.size()) {
+    failed_ = true;  // the file's tail is unknown now: no later record may claim an offset in it
     throw McapError(path_ + ": write failed at offset " + std::to_string(offset_) + " (" + std::strerror(errno) + ")");
+  }
   data_crc_ = crc32_of(bytes.data(), bytes.size(), data_crc_);
   offset_ += bytes.size();
 }
@@ -97,6 +105,7 @@ void McapWriter::add_metadata(const std::string& name, const std::map<std::strin
 
 void McapWriter::write(uint16_t channel_id, uint32_t sequence, uint64_t log_time, uint64_t publish_time,
                        const uint8_t* data, size_t size) {
+  check_writable();
   if (channel_id == 0 || channel_id > channels_.size())
     throw McapError(path_ + ": message on unknown channel " + std::to_string(channel_id));
   if (chunk_records_.empty()) {
@@ -158,8 +167,12 @@ void McapWriter::write_chunk() {
 }
 
 void McapWriter::flush() {
+  check_writable();
   write_chunk();
-  if (std::fflush(file_) != 0) throw McapError(path_ + ": flush failed (" + std::strerror(errno) + ")");
+  if (std::fflush(file_) != 0) {
+    failed_ = true;
+    throw McapError(path_ + ": flush failed (" + std::strerror(errno) + ")");
+  }
 }
 
 Bytes McapWriter::summary_section(uint64_t summary_start, Bytes& offsets_section) const {
@@ -231,6 +244,7 @@ Bytes McapWriter::summary_section(uint64_t summary_start, Bytes& offsets_section
 
 void McapWriter::close() {
   if (!file_) return;
+  check_writable();
   write_chunk();
   Bytes data_end;
   Bytes content;

@@ -79,10 +79,6 @@ class IdlParser {
   }
 
  private:
-  struct Constant {
-    std::string text;
-  };
-
   void block(std::vector<std::string>& scope) {
     while (position_ < tokens_.size() && peek() != "}") {
       const std::string word = next();

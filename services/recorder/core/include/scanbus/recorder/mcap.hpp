@@ -16,6 +16,11 @@ class McapError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Files whose name ends in .mcap are read as recordings where a tool also takes text logs.
+inline bool is_mcap_path(const std::string& path) {
+  return path.size() > 5 && path.compare(path.size() - 5, 5, ".mcap") == 0;
+}
+
 enum class Compression { None, Lz4, Zstd };
 // "" / "lz4" / "zstd": the spec's names, also the command line's ("none" for "").
 std::string compression_name(Compression compression);

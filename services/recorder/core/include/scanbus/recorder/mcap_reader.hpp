@@ -60,6 +60,7 @@ class McapReader {
   const std::map<std::string, std::map<std::string, std::string>>& metadata() const { return metadata_; }
 
  private:
+  void open_checked();  // the constructor's checks, after fopen
   void stream(const MessageHandler& on_message);
   void read_at(uint64_t offset, void* out, size_t size, const char* what);
   void handle_record(uint8_t opcode, const uint8_t* content, size_t size, uint64_t offset,

@@ -53,6 +53,7 @@ class McapWriter {
     std::map<uint16_t, uint64_t> message_index_offsets;
     uint64_t message_index_length, compressed_size, uncompressed_size;
   };
+  void check_writable() const;
   void emit(const std::vector<uint8_t>& bytes);
   void write_chunk();
   std::vector<uint8_t> summary_section(uint64_t summary_start, std::vector<uint8_t>& offsets_section) const;
@@ -61,6 +62,7 @@ class McapWriter {
   McapWriterOptions options_;
   std::FILE* file_ = nullptr;
   uint64_t offset_ = 0;
+  bool failed_ = false;
   uint32_t data_crc_ = 0;  // of every byte written so far, for the Data End record
   std::vector<McapSchema> schemas_;
   std::vector<McapChannel> channels_;
