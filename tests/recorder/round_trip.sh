@@ -6,6 +6,7 @@
 # 3. a recorder killed with SIGKILL: `scanbus info` refuses the file naming the offset,
 #    `--salvage` finds every sample flushed before the kill; a file cut in half: `scanbus
 #    replay` refuses it naming the offset, `--salvage` publishes what precedes the cut;
+#    replay's --start/--end, --rate and --loop on a sample with regular stamps;
 # 4. @mcap/core (Foxglove's reader, installed here with npm) reads both files: topics,
 #    counts, schemas and the SHA-256 of every payload match what was published, and
 #    Foxglove's ros2msg parser and CDR reader decode every message from the file's schema;
@@ -139,8 +140,33 @@ for name in ("published", "replayed"):
 sys.exit(1 if failures else 0)
 PY
 
-# The recorded samples: @mcap/core's counts are ours, every message decodes and re-encodes.
 [ -n "$samples" ] || exit 0
+
+# Replay's selection and pacing on a sample with regular stamps (scans at 30 Hz, pressure
+# at 10 Hz): --start/--end pick the scans between, --rate 1 takes the recorded time,
+# --loop goes round until stopped.
+flight="$samples/mav_scenario_1.mcap"
+"$scanbus" replay "$flight" --rate 0 --topics /scan --start 10 --end 20 --json > "$work/window.json"
+started=$(date +%s%N)
+"$scanbus" replay "$flight" --rate 1 --topics /pressure --end 2 --json > "$work/paced.json"
+paced_ms=$(( ($(date +%s%N) - started) / 1000000 ))
+timeout -s INT 4 "$scanbus" replay "$flight" --rate 0 --loop --topics /pressure --json > "$work/loop.json" || true
+python3 - "$work" "$paced_ms" <<'PY'
+import json, sys
+work, paced_ms = sys.argv[1], int(sys.argv[2])
+window = json.load(open(f"{work}/window.json"))["published"]
+paced = json.load(open(f"{work}/paced.json"))["published"]
+looped = json.load(open(f"{work}/loop.json"))["published"]
+summary = (f"replay --start 10 --end 20: {window} scans; --rate 1 --end 2: {paced} pressures in {paced_ms} ms; "
+           f"--loop for 4 s: {looped} of the file's 600 pressures")
+print("checking", summary)
+assert 299 <= window <= 301, "10 s of 30 Hz scans"
+assert 20 <= paced <= 21 and 1900 <= paced_ms <= 4000, "2 s of 10 Hz pressure at the recorded pace"
+assert looped > 600, "--loop went round"
+print("ok  ", summary)
+PY
+
+# The recorded samples: @mcap/core's counts are ours, every message decodes and re-encodes.
 for file in "$samples"/*.mcap; do
   node "$work/node/read_mcap.mjs" "$file" > "$work/sample.node.json"
   "$scanbus" info --json "$file" > "$work/sample.info.json"
