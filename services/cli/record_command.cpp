@@ -117,7 +117,8 @@ int run_info(const InfoOptions& options) {
   uint64_t messages = 0, start = 0, end = 0, chunks = 0;
   std::set<std::string> compressions;
   std::string damage;
-  if (const auto summary = reader.read_summary(); summary && summary->statistics) {
+  const auto summary = reader.read_summary();
+  if (summary && summary->statistics) {
     channels = summary->channels;
     schemas = summary->schemas;
     counts = summary->statistics->channel_message_counts;
@@ -161,12 +162,12 @@ int run_info(const InfoOptions& options) {
   std::printf("%s: %lu bytes, profile '%s', written by '%s'\n", options.file.c_str(),
               static_cast<unsigned long>(reader.file_size()), reader.profile().c_str(), reader.library().c_str());
   std::printf("messages: %lu over %.3f s\n", static_cast<unsigned long>(messages), duration);
-  if (chunks) {
+  if (!summary || !summary->statistics) {
+    std::printf("no summary: counted by reading every message\n");
+  } else if (chunks) {
     std::string names;
     for (const auto& name : compressions) names += (names.empty() ? "" : ", ") + name;
     std::printf("chunks: %lu (%s)\n", static_cast<unsigned long>(chunks), names.c_str());
-  } else {
-    std::printf("no summary: counted by reading every message\n");
   }
   for (const auto& topic : topics) {
     const auto count = topic["messages"].get<uint64_t>();
