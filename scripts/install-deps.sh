@@ -1,18 +1,29 @@
 #!/usr/bin/env bash
 # Installs the Debian bookworm packages scanbus needs to build, test and run; does nothing
-# when they are all present. Needs root (or sudo).
+# when they are all present. Needs root (or sudo). `--build-only`: just what building the
+# services needs.
 set -euo pipefail
 
+# What building the services needs (`--build-only`: the container image's build stage).
 packages=(
-  cmake g++ make pkg-config git
-  libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
+  cmake g++ make pkg-config
+  libfastrtps-dev libfastcdr-dev fastddsgen
   libpcl-dev libceres-dev libeigen3-dev libgeographiclib-dev
   libzstd-dev liblz4-dev zlib1g-dev
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libcairo2-dev libnanoflann-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
-  gcc-avr avr-libc binutils-avr arduino-core-avr arduino-mk
-  iproute2 procps python3
 )
+build_only=false
+[ "${1:-}" = "--build-only" ] && build_only=true
+if ! $build_only; then
+  # Tests, benchmarks, the firmware's AVR build, tools the tests drive, the deployment test.
+  packages+=(
+    git fastdds-tools
+    libgtest-dev libgmock-dev libbenchmark-dev
+    gcc-avr avr-libc binutils-avr arduino-core-avr arduino-mk
+    iproute2 procps python3
+    docker.io docker-compose debootstrap
+  )
+fi
 
 missing=()
 for package in "${packages[@]}"; do
@@ -20,7 +31,7 @@ for package in "${packages[@]}"; do
 done
 # Node.js and npm run the MCAP interoperability check (tests/recorder): Debian's, unless
 # some other Node.js is already on the PATH.
-command -v node > /dev/null && command -v npm > /dev/null || missing+=(nodejs npm)
+$build_only || { command -v node > /dev/null && command -v npm > /dev/null; } || missing+=(nodejs npm)
 [ ${#missing[@]} -eq 0 ] && exit 0
 
 echo "installing: ${missing[*]}"
