@@ -39,7 +39,7 @@ expect_error 2 "at offset [0-9]* needs [0-9]* bytes" -- "$scanbus" info "$work/c
 expect_error 2 "no LaserScan messages\|at offset" -- "$scanbus" scanmatch eval --log "$work/cut.mcap" --relations "$(dirname "$0")/../data/mit_csail.relations"
 
 # Every shipped config is valid for its service.
-for config in "$(dirname "$0")"/../../config/services/*.yaml "$(dirname "$0")"/../../config/mav/*.yaml; do
+for config in "$(dirname "$0")"/../../config/services/*.yaml "$(dirname "$0")"/../../config/mav/*.yaml "$(dirname "$0")"/../../config/deploy/*.yaml; do
   service=$(basename "$config" .yaml)
   if "$scanbus" run "$service" --config "$config" --check-config > "$work/out" 2>&1; then
     echo "ok   $(cat "$work/out")"

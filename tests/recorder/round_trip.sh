@@ -59,6 +59,17 @@ grep -q "offset [0-9]* without a Data End record" "$work/info.out" || { echo "FA
 echo "ok   killed recording refused: $(cat "$work/info.out")"
 "$scanbus" info --salvage --json "$work/killed.mcap" > "$work/killed.json"
 
+# The recorder as a service (its own Health among the topics), stopped by SIGTERM.
+printf 'service:\n  health_period: 0.5\nrecorder:\n  out: %s\n  topics: [rt/scanbus/health]\n' "$work/service.mcap" > "$work/recorder.yaml"
+"$scanbus" run recorder --config "$work/recorder.yaml" > "$work/service.log" 2>&1 &
+service=$!
+sleep 3
+kill -TERM "$service"
+wait "$service" || { echo "FAIL: the recorder service failed:"; cat "$work/service.log"; exit 1; }
+health=$("$scanbus" info --json "$work/service.mcap" | python3 -c "import json,sys; print(json.load(sys.stdin)['messages'])")
+[ "$health" -ge 3 ] || { echo "FAIL: the recorder service recorded $health Health samples in 3 s"; exit 1; }
+echo "ok   recorder service: $health Health samples (its own among them), a valid file on SIGTERM"
+
 # A file cut in the middle: replay refuses it naming the offset, and --salvage publishes
 # what precedes the cut.
 head -c $(( $(stat -c %s "$work/published.mcap") / 2 )) "$work/published.mcap" > "$work/cut.mcap"

@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 #include <set>
+#include <typeinfo>
 
 namespace scanbus {
 
@@ -68,13 +69,17 @@ Participant::~Participant() {
 dds::Topic* Participant::topic(const std::string& name, dds::TopicDataType* type) {
   std::lock_guard<std::mutex> lock(mutex_);
   dds::TypeSupport support(type);  // owns `type` from here on
+  // One participant, one implementation per type name: a reader would otherwise decode
+  // samples with another type's code (generated vs raw bytes) into the wrong object.
+  const dds::TypeSupport registered = participant_->find_type(support.get_type_name());
+  if (!registered.empty() && typeid(*registered.get()) != typeid(*support.get()))
+    throw DdsError("type " + support.get_type_name() + " is already registered with other code in this participant");
   if (auto found = topics_.find(name); found != topics_.end()) {
     if (found->second->get_type_name() != support.get_type_name())
       throw DdsError("topic '" + name + "' already has type " + found->second->get_type_name());
     return found->second;
   }
-  if (participant_->find_type(support.get_type_name()).empty() &&
-      support.register_type(participant_) != ReturnCode_t::RETCODE_OK)
+  if (registered.empty() && support.register_type(participant_) != ReturnCode_t::RETCODE_OK)
     throw DdsError("cannot register type " + support.get_type_name());
   dds::Topic* topic = participant_->create_topic(name, support.get_type_name(), dds::TOPIC_QOS_DEFAULT);
   if (!topic) throw DdsError("cannot create topic '" + name + "' of type " + support.get_type_name());

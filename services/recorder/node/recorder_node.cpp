@@ -12,8 +12,12 @@ class RecorderService : public Service {
       : context_(context), settings_(std::move(settings)) {}
 
   int run() override {
+    // A participant of its own: its raw readers register catalogue type names (Health's
+    // among them) that the service's participant already holds with generated code.
+    Participant raw(dds_settings_from_config(context_.config.section("dds")), "scanbus/recorder/raw");
+    raw.set_qos_overrides(context_.config.section("qos"));
     // The file is created here, not in the factory, so --check-config writes nothing.
-    Recording recording(context_.participant, settings_, context_.log);
+    Recording recording(raw, settings_, context_.log);
     auto& messages = context_.health.counter("messages_recorded");
     auto& bytes = context_.health.counter("bytes_recorded");
     while (!StopSignal::wait_for(std::chrono::milliseconds(200))) {
