@@ -71,7 +71,7 @@ for _ in $(seq 60); do
   sleep 2
 done
 [ -z "$unhealthy" ] || { echo "FAIL: not healthy: $unhealthy"; exit 1; }
-echo "every container healthy: $("${compose[@]}" ps --services | tr '\n' ' ')"
+echo "every container healthy: $(for id in $("${compose[@]}" ps -q); do docker inspect -f '{{.Name}}' "$id"; done | tr '\n' ' ')"
 
 # The recorder closes its file on SIGTERM; the measurement is in it.
 "${compose[@]}" stop --timeout 10 recorder > /dev/null
