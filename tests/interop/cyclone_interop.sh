@@ -71,9 +71,10 @@ mine = ([round(w["length"], 6) for w in room_fast["walls"]], len(room_fast["corn
 theirs = ([round(w, 6) for w in room_cyc["walls"]], room_cyc["corners"], round(room_cyc["floor_area"], 6), room_cyc["status"])
 check(f"RoomMeasurement: walls {mine[0]}, {mine[1]} corners, floor {mine[2]:.3f} m2", mine, theirs)
 
-fast = [(stamp(s["header"]), s["header"]["frame_id"], len(s["ranges"]), round(sum(s["ranges"]), 1)) for s in lines("fast_scan")]
-cyc = [(round(s["stamp"], 6), s["frame_id"], s["ranges"], round(s["range_sum"], 1)) for s in lines("cyclone_scan")]
-check(f"LaserScan: {len(cyc)} scans of {cyc[0][2]} ranges, stamps, frames and range sums", fast, cyc)
+fast = [(stamp(s["header"]), s["header"]["frame_id"], len(s["ranges"]), sum(round(r * 1000) for r in s["ranges"]))
+        for s in lines("fast_scan")]
+cyc = [(round(s["stamp"], 6), s["frame_id"], s["ranges"], s["range_sum_mm"]) for s in lines("cyclone_scan")]
+check(f"LaserScan: {len(cyc)} scans of {cyc[0][2]} ranges, stamps, frames and ranges (mm sums)", fast, cyc)
 sys.exit(1 if failures else 0)
 PY
 echo "cyclone interop: ok"

@@ -3,6 +3,7 @@
  * JSON line of its contents, for cyclone_interop.sh to compare with what scanbus sent.
  *   cyclone_subscriber cloud|scan|room TOPIC COUNT SECONDS
  * Domain: SCANBUS_DOMAIN_ID. Network: CYCLONEDDS_URI (the test keeps it on 127.0.0.1). */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,11 +22,12 @@ static void print_cloud(const sensor_msgs_msg_dds__PointCloud2_* cloud) {
 }
 
 static void print_scan(const sensor_msgs_msg_dds__LaserScan_* scan) {
-  double sum = 0;
-  for (uint32_t i = 0; i < scan->ranges._length; ++i) sum += scan->ranges._buffer[i];
+  /* In whole millimetres: exact on both sides, whatever a float's decimal text looks like. */
+  long long millimetres = 0;
+  for (uint32_t i = 0; i < scan->ranges._length; ++i) millimetres += llround(scan->ranges._buffer[i] * 1000.0);
   printf("{\"stamp\": %d.%09u, \"frame_id\": \"%s\", \"angle_min\": %.6f, \"angle_increment\": %.8f, \"ranges\": %u, "
-         "\"range_sum\": %.3f}\n", scan->header.stamp.sec, scan->header.stamp.nanosec, scan->header.frame_id,
-         scan->angle_min, scan->angle_increment, scan->ranges._length, sum);
+         "\"range_sum_mm\": %lld}\n", scan->header.stamp.sec, scan->header.stamp.nanosec, scan->header.frame_id,
+         scan->angle_min, scan->angle_increment, scan->ranges._length, millimetres);
 }
 
 static void print_room(const scanbus_msg_dds__RoomMeasurement_* room) {
