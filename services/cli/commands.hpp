@@ -16,7 +16,9 @@ struct DdsOptions {
   std::string profile_file;  // empty: the built-in loopback profile
   int domain = 0;
 
-  DdsSettings settings() const { return {profile_file, "localhost", domain}; }
+  std::string profile = "localhost";  // participant profile name in that file
+
+  DdsSettings settings() const { return {profile_file, profile, domain}; }
   // Into the environment, so services started from here read the same domain and profile.
   void export_to_children() const;
 };

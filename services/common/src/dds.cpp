@@ -17,6 +17,7 @@ DdsSettings dds_settings_from_config(const Config& section) {
   settings.profile = section.text("profile", settings.profile);
   settings.domain = static_cast<int>(section.integer("domain", 0, 0, 232));
   if (const char* file = std::getenv("SCANBUS_DDS_PROFILE_FILE")) settings.profile_file = file;
+  if (const char* name = std::getenv("SCANBUS_DDS_PROFILE")) settings.profile = name;
   if (const char* domain = std::getenv("SCANBUS_DOMAIN_ID")) {
     try {
       settings.domain = std::stoi(domain);

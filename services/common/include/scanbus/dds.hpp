@@ -39,8 +39,9 @@ struct DdsSettings {
 // The loopback-only Fast DDS profile compiled into every binary (config/dds/localhost.xml).
 const char* embedded_localhost_profile();
 
-// The `dds` section of a service config; SCANBUS_DDS_PROFILE_FILE and SCANBUS_DOMAIN_ID
-// override the file so tests can isolate themselves.
+// The `dds` section of a service config; SCANBUS_DDS_PROFILE_FILE, SCANBUS_DDS_PROFILE
+// (the participant profile's name) and SCANBUS_DOMAIN_ID override the file, so tests and
+// deployments can set every process at once.
 DdsSettings dds_settings_from_config(const Config& dds_section);
 
 class Participant {
