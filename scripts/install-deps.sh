@@ -22,7 +22,7 @@ if ! $build_only; then
     gcc-avr avr-libc binutils-avr arduino-core-avr arduino-mk
     iproute2 procps python3
     docker.io docker-compose debootstrap
-    cyclonedds-dev cyclonedds-tools
+    cyclonedds-dev cyclonedds-tools openssl
   )
 fi
 
