@@ -79,15 +79,6 @@ echo "ok   B's link cut for 17 s (past the lease): no measurements"
 ip -n "$switch" link set to_b up
 restored=$(measurements)
 wait_for_more_than "$restored" 60 || { echo "FAIL: no measurements within 60 s of B's link coming back"; tail -5 "$work/room.log"; exit 1; }
-python3 - "$work/measurements.jsonl" <<'PY'
-import json, sys
-rooms = [json.loads(line) for line in open(sys.argv[1])]
-last = rooms[-1]
-lengths = sorted(wall["length"] for wall in last["walls"])
-assert last["status"] == 0 and len(lengths) == 4, last
-for got, want in zip(lengths, [3.48, 3.48, 5.47, 5.47]):
-    assert abs(got - want) <= 0.01, lengths
-print(f"ok   link back: measurements again ({len(rooms)} in all), the last {[round(l, 3) for l in lengths]}")
-PY
+"$root/tests/support/check_room.py" "$work/measurements.jsonl" 0.01 "ok   link back: measurements again; the last"
 for pid in "${pids[@]}"; do kill -0 "$pid" 2> /dev/null || { echo "FAIL: a process died"; exit 1; }; done
 echo "multihost: ok"

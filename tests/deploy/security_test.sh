@@ -34,13 +34,7 @@ secure "$scanbus" replay "$data/room_scan.mcap" --topics /scanner/scan_cloud --r
   --wait-timeout 30 > "$work/replay.log" 2>&1
 
 wait "$secure_reader" || { echo "FAIL: no RoomMeasurement on the secure profile"; cat "$work/room.log"; exit 1; }
-python3 - "$work/secure.json" <<'PY'
-import json, sys
-room = json.loads(open(sys.argv[1]).readline())
-lengths = sorted(round(w["length"], 3) for w in room["walls"])
-assert room["status"] == 0 and len(lengths) == 4, room
-print(f"ok   secure services together: replay -> room_measurement -> reader, walls {lengths}")
-PY
+"$root/tests/support/check_room.py" "$work/secure.json" 0.01 "ok   secure services together: replay -> room_measurement -> reader"
 status=0
 wait "$plain_reader" || status=$?
 [ "$status" -ne 0 ] && [ ! -s "$work/plain.json" ] || { echo "FAIL: a participant without security read the room"; exit 1; }

@@ -17,15 +17,5 @@ echo_pid=$!
 sleep 2  # discovery
 "$scanbus" replay "$sample" --rate 0 --topics rt/scanner/scan_cloud --wait-for-readers 1 --json > "$work/replay.json"
 wait "$echo_pid" || { echo "FAIL: no RoomMeasurement"; cat "$work/room.log" "$work/echo.log"; exit 1; }
-python3 - "$work/measurement.json" <<'PY'
-import json, sys
-room = json.loads(open(sys.argv[1]).readline())
-lengths = sorted(wall["length"] for wall in room["walls"])
-print("replayed room:", [round(length, 3) for length in lengths], "area", round(room["floor_area"], 3), "m2")
-assert room["status"] == 0, room["message"]
-assert len(lengths) == 4, lengths
-for got, want in zip(lengths, [3.48, 3.48, 5.47, 5.47]):
-    assert abs(got - want) <= 0.01, f"wall {got:.3f} m, the room's is {want} m"
-assert abs(room["floor_area"] - 5.47 * 3.48) <= 0.01 * 5.47 * 3.48, room["floor_area"]
-PY
+"$(dirname "$0")/../support/check_room.py" "$work/measurement.json" 0.01 "replayed room"
 echo "room sample: ok"
