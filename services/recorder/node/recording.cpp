@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "scanbus/recorder/ros2msg.hpp"
+#include "topic_channels.hpp"
 
 namespace scanbus::recorder {
 
@@ -41,17 +42,6 @@ RecorderSettings recorder_settings_from_config(const Config& section) {
   return settings;
 }
 
-std::string offered_qos_profiles(const QosSettings& qos) {
-  // rmw's enums: history 1 keep last / 2 keep all, reliability 1 reliable / 2 best effort,
-  // durability 1 transient local / 2 volatile; zero durations mean "default".
-  const std::string zero = "\n    sec: 0\n    nsec: 0";
-  return "- history: " + std::to_string(qos.keep_all ? 2 : 1) + "\n  depth: " + std::to_string(qos.depth) +
-         "\n  reliability: " + std::to_string(qos.reliable ? 1 : 2) +
-         "\n  durability: " + std::to_string(qos.transient_local ? 1 : 2) + "\n  deadline:" + zero +
-         "\n  lifespan:" + zero + "\n  liveliness: 1\n  liveliness_lease_duration:" + zero +
-         "\n  avoid_ros_namespace_conventions: false\n";
-}
-
 Recording::Recording(Participant& participant, const RecorderSettings& settings, std::shared_ptr<spdlog::logger> log)
     : settings_(settings), log_(std::move(log)), writer_(settings.out, settings.writer) {
   std::vector<std::string> topics;
@@ -59,19 +49,15 @@ Recording::Recording(Participant& participant, const RecorderSettings& settings,
   if (topics.empty())
     for (const auto& info : topic_catalogue()) topics.push_back(info.name);
 
-  std::map<std::string, uint16_t> schema_of_type;
+  TopicChannels channels(writer_);
   for (const auto& topic : topics) {
     const TopicInfo& info = topic_info(topic);
-    const std::string ros_type = ros_type_of_dds_type(info.type);
-    if (!schema_of_type.count(ros_type))
-      schema_of_type[ros_type] = writer_.add_schema(ros_type, "ros2msg", Ros2MsgCatalogue::scanbus().schema(ros_type));
     QosSettings qos = participant.qos(topic);
     if (!participant.has_qos_override(topic)) {
       qos.keep_all = true;
       qos.reliable = qos.reliable || settings.reliable;
     }
-    const uint16_t channel = writer_.add_channel(schema_of_type[ros_type], ros_topic_of_dds_topic(topic), "cdr",
-                                                 {{"offered_qos_profiles", offered_qos_profiles(info.qos)}});
+    const uint16_t channel = channels.add(topic);
     topic_of_channel_[channel] = topic;
     readers_.push_back(std::make_unique<RawReader>(
         participant, topic, info.type, qos,

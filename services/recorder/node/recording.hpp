@@ -33,8 +33,6 @@ struct RecorderSettings {
 RecorderSettings recorder_settings_from_config(const Config& section);
 // "rt/scan" or "/scan" -> "rt/scan"; throws ConfigError for topics not in the catalogue.
 std::string catalogue_topic(const std::string& name);
-// rosbag2's `offered_qos_profiles` channel metadata for a QoS.
-std::string offered_qos_profiles(const QosSettings& qos);
 
 class Recording {
  public:

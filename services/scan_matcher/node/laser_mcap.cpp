@@ -4,22 +4,18 @@
 
 #include "LaserScanPubSubTypes.h"
 #include "cdr.hpp"
-#include "recording.hpp"
 #include "scanbus/clock.hpp"
 #include "scanbus/recorder/mcap_reader.hpp"
 #include "scanbus/recorder/mcap_writer.hpp"
 #include "scanbus/recorder/ros2msg.hpp"
+#include "topic_channels.hpp"
 
 namespace scanbus::scan_matcher {
 
 void write_laser_mcap(const std::string& path, const std::vector<LaserRecord>& records, const std::string& frame) {
   using namespace recorder;
   McapWriter writer(path, {});
-  const TopicInfo& info = topic_info("rt/scan");
-  const std::string ros_type = ros_type_of_dds_type(info.type);
-  const uint16_t schema = writer.add_schema(ros_type, "ros2msg", Ros2MsgCatalogue::scanbus().schema(ros_type));
-  const uint16_t channel = writer.add_channel(schema, ros_topic_of_dds_topic(info.name), "cdr",
-                                              {{"offered_qos_profiles", offered_qos_profiles(info.qos)}});
+  const uint16_t channel = TopicChannels(writer).add("rt/scan");
   uint32_t sequence = 0;
   for (const auto& record : records) {
     sensor_msgs::msg::LaserScan scan;

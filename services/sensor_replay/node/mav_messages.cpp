@@ -10,11 +10,11 @@
 #include "NavSatFixPubSubTypes.h"
 #include "PoseStampedPubSubTypes.h"
 #include "cdr.hpp"
-#include "recording.hpp"
 #include "scanbus/clock.hpp"
 #include "scanbus/recorder/mcap_reader.hpp"
 #include "scanbus/recorder/mcap_writer.hpp"
 #include "scanbus/recorder/ros2msg.hpp"
+#include "topic_channels.hpp"
 
 namespace scanbus::sensor_replay {
 
@@ -108,14 +108,9 @@ void write_mav_mcap(const std::string& path, const MavLog& log, const MavFrames&
     meta[name] = text;
   }
   writer.add_metadata(kMetadataName, meta);
+  TopicChannels topics(writer);
   std::map<RecordKind, uint16_t> channels;
-  auto channel = [&](RecordKind kind, const std::string& topic) {
-    const TopicInfo& info = topic_info(topic);
-    const std::string ros_type = ros_type_of_dds_type(info.type);
-    const uint16_t schema = writer.add_schema(ros_type, "ros2msg", Ros2MsgCatalogue::scanbus().schema(ros_type));
-    channels[kind] = writer.add_channel(schema, ros_topic_of_dds_topic(topic), "cdr",
-                                        {{"offered_qos_profiles", offered_qos_profiles(info.qos)}});
-  };
+  auto channel = [&](RecordKind kind, const std::string& topic) { channels[kind] = topics.add(topic); };
   channel(RecordKind::Laser, "rt/scan");
   channel(RecordKind::Imu, "rt/imu");
   channel(RecordKind::Gps, "rt/fix");
