@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <thread>
 
 #include "raw_endpoints.hpp"
@@ -34,13 +35,19 @@ dds::DataWriterQos replay_qos(const std::string& topic) {
   return out;
 }
 
+// Whether a message lies between --start and --end (seconds after the file's first).
+bool in_window(const ReplaySettings& settings, uint64_t first_time, uint64_t log_time) {
+  const double after_start = (log_time - first_time) * 1e-9;
+  return (!settings.start || after_start >= *settings.start) && (!settings.end || after_start <= *settings.end);
+}
+
 // The file's selected channels, message count and first log time, checking it whole
 // (unless salvaging) before anything is published.
 struct Survey {
   std::map<uint16_t, std::string> topic_of_channel;  // selected channels -> DDS topic
   std::map<uint16_t, std::string> type_of_channel;
   uint64_t messages = 0;
-  uint64_t first_time = 0;
+  uint64_t first_time = UINT64_MAX;  // of any message, selected or not
   std::string damage;
 };
 
@@ -48,14 +55,11 @@ Survey survey(const ReplaySettings& settings, const std::shared_ptr<spdlog::logg
   std::vector<std::string> wanted;
   for (const auto& name : settings.topics) wanted.push_back(dds_topic_of_ros_topic(name));
   Survey result;
-  bool first = true;
   std::map<uint16_t, bool> selected;
   McapReader reader(settings.file);
-  std::vector<std::pair<uint64_t, uint16_t>> times;
+  std::vector<uint64_t> times;  // of the selected channels' messages
   result.damage = reader.read_messages(
       [&](const McapMessage& message, const McapChannel& channel) {
-        if (first) result.first_time = message.log_time;
-        first = false;
         result.first_time = std::min(result.first_time, message.log_time);
         if (!selected.count(channel.id)) {
           const std::string topic = dds_topic_of_ros_topic(channel.topic);
@@ -71,14 +75,10 @@ Survey survey(const ReplaySettings& settings, const std::shared_ptr<spdlog::logg
             result.type_of_channel[channel.id] = dds_type_of_ros_type(schemas.at(channel.schema_id).name);
           }
         }
-        if (selected[channel.id]) times.emplace_back(message.log_time, channel.id);
+        if (selected[channel.id]) times.push_back(message.log_time);
       },
       settings.salvage);
-  for (const auto& [time, channel] : times) {
-    const double after_start = (time - result.first_time) * 1e-9;
-    if ((!settings.start || after_start >= *settings.start) && (!settings.end || after_start <= *settings.end))
-      ++result.messages;
-  }
+  for (const uint64_t time : times) result.messages += in_window(settings, result.first_time, time);
   for (const auto& name : wanted) {
     bool found = false;
     for (const auto& [channel, topic] : result.topic_of_channel) found = found || topic == name;
@@ -126,9 +126,7 @@ ReplayResult replay(Participant& participant, const ReplaySettings& settings, st
           [&](const McapMessage& message, const McapChannel& channel) {
             const auto writer = writers.find(channel.id);
             if (writer == writers.end()) return;
-            const double after_start = (message.log_time - plan.first_time) * 1e-9;
-            if ((settings.start && after_start < *settings.start) || (settings.end && after_start > *settings.end))
-              return;
+            if (!in_window(settings, plan.first_time, message.log_time)) return;
             if (!first_replayed) first_replayed = message.log_time;
             if (settings.rate > 0) {
               // A file need not be in time order: an earlier message goes at once.
