@@ -176,10 +176,11 @@ MavLog read_mav_mcap(const std::string& path) {
       std::istringstream values(text);
       for (double value; values >> value;) log.meta[name].push_back(value);
     }
-  } catch (const McapError& error) {
+  } catch (const MavLogError&) {
+    throw;
+  } catch (const McapError& error) {  // names the file already
     throw MavLogError(error.what());
-  } catch (const std::runtime_error& error) {
-    if (dynamic_cast<const MavLogError*>(&error)) throw;
+  } catch (const std::runtime_error& error) {  // bytes that do not decode
     throw MavLogError(path + ": " + error.what());
   }
   if (log.lasers.empty()) throw MavLogError(path + ": no LaserScan messages on /scan");
