@@ -108,7 +108,6 @@ void Recording::write_loop() {
         lock.unlock();
         writer_.write(next.channel, next.sequence, next.log_time, next.publish_time, next.data.data(), next.data.size());
         lock.lock();
-        ++written_messages_;
         written_bytes_ += next.data.size();
         ++written_by_topic_[topic_of_channel_.at(next.channel)];
       }
@@ -151,7 +150,9 @@ std::string Recording::failure() const {
 
 uint64_t Recording::messages() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return written_messages_;
+  uint64_t messages = 0;
+  for (const auto& [topic, count] : written_by_topic_) messages += count;
+  return messages;
 }
 
 uint64_t Recording::bytes() const {

@@ -69,7 +69,7 @@ class Recording {
   std::deque<Pending> queue_;
   size_t queued_bytes_ = 0;
   bool stopping_ = false;
-  uint64_t written_messages_ = 0, written_bytes_ = 0;
+  uint64_t written_bytes_ = 0;
   std::map<std::string, uint64_t> written_by_topic_;
   std::string failure_;  // the writer thread's error, reported by stop()
   std::vector<std::unique_ptr<RawReader>> readers_;
