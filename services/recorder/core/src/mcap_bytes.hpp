@@ -36,6 +36,14 @@ inline void put_string_map(Bytes& out, const std::map<std::string, std::string>&
   put<uint32_t>(out, static_cast<uint32_t>(entries.size()));
   put_raw(out, entries.data(), entries.size());
 }
+// Map<uint16, uint64> (channel counts, message index offsets): byte length, then pairs.
+inline void put_channel_map(Bytes& out, const std::map<uint16_t, uint64_t>& map) {
+  put<uint32_t>(out, static_cast<uint32_t>(map.size() * (2 + 8)));
+  for (const auto& [channel_id, value] : map) {
+    put<uint16_t>(out, channel_id);
+    put<uint64_t>(out, value);
+  }
+}
 // Opcode, length, content.
 inline void put_record(Bytes& out, uint8_t opcode, const Bytes& content) {
   put<uint8_t>(out, opcode);

@@ -204,11 +204,7 @@ Bytes McapWriter::summary_section(uint64_t summary_start, Bytes& offsets_section
   put<uint32_t>(content, statistics_.chunk_count);
   put<uint64_t>(content, statistics_.message_start_time);
   put<uint64_t>(content, statistics_.message_end_time);
-  put<uint32_t>(content, static_cast<uint32_t>(statistics_.channel_message_counts.size() * 10));
-  for (const auto& [channel_id, count] : statistics_.channel_message_counts) {
-    put<uint16_t>(content, channel_id);
-    put<uint64_t>(content, count);
-  }
+  put_channel_map(content, statistics_.channel_message_counts);
   put_record(statistics, format::kStatistics, content);
   for (const auto& index : chunk_indexes_) {
     Bytes record;
@@ -216,11 +212,7 @@ Bytes McapWriter::summary_section(uint64_t summary_start, Bytes& offsets_section
     put<uint64_t>(record, index.end_time);
     put<uint64_t>(record, index.offset);
     put<uint64_t>(record, index.length);
-    put<uint32_t>(record, static_cast<uint32_t>(index.message_index_offsets.size() * 10));
-    for (const auto& [channel_id, offset] : index.message_index_offsets) {
-      put<uint16_t>(record, channel_id);
-      put<uint64_t>(record, offset);
-    }
+    put_channel_map(record, index.message_index_offsets);
     put<uint64_t>(record, index.message_index_length);
     put_string(record, compression_name(options_.compression));
     put<uint64_t>(record, index.compressed_size);
