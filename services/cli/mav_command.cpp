@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <sstream>
 
@@ -97,13 +99,21 @@ struct EvalMavOptions {
   FlightOptions flight;
   std::string out;  // a folder for each flight's clouds (PCD) and their top views (PNG)
   bool json = false;
+  bool no_ground = false;
 };
 
-// FLIGHT_SOURCE.pcd and .png for each of the three heights, e.g. scenario_IV_fused.pcd.
+// FLIGHT_SOURCE.pcd and .png for each of the three heights, e.g. scenario_IV_fused.pcd, and
+// FLIGHT_heights.csv: the truth, the three heights and the scan's ground clearance at every
+// pose, for plotting.
 void write_clouds(const std::string& folder, const std::string& flight, const FlightEvaluation& evaluation) {
   std::string stem = flight;
   std::replace(stem.begin(), stem.end(), ' ', '_');
   stem = stem.substr(stem.find_last_of('/') + 1);
+  std::ofstream heights(folder + "/" + stem + "_heights.csv");
+  heights << "stamp,truth,barometer,scan_matcher,fused,clearance\n";
+  for (const auto& sample : evaluation.heights)
+    heights << std::fixed << std::setprecision(4) << sample.stamp << ',' << sample.truth << ',' << sample.height[0]
+            << ',' << sample.height[1] << ',' << sample.height[2] << ',' << sample.clearance << '\n';
   for (int source = 0; source < 3; ++source) {
     std::vector<CloudPoint> points;
     points.reserve(evaluation.cloud[source].size());
@@ -121,6 +131,8 @@ nlohmann::json evaluation_json(const std::string& name, const FlightEvaluation& 
                       {"poses", e.poses},
                       {"failed_matches", e.matches_failed},
                       {"rejected_changes", e.changes_rejected},
+                      {"clearances", e.clearances},
+                      {"ground_levels", e.ground_levels},
                       {"fusion_ms_per_update", e.fusion_ms_per_update}};
   for (int source = 0; source < 3; ++source) {
     json["height_rmse_m"][ground_evaluation::kHeightSourceNames[source]] = e.height_rmse[source];
@@ -150,7 +162,9 @@ int run_eval_mav(EvalMavOptions options) {
   for (const auto& [name, log] : flights) {
     const std::string label = name;
     try {
-      evaluations.push_back(ground_evaluation::evaluate_flight(log, {}, [&](size_t done, size_t total) {
+      ground_evaluation::FlightEvaluationSettings settings;
+      settings.ground_clearance = !options.no_ground;
+      evaluations.push_back(ground_evaluation::evaluate_flight(log, settings, [&](size_t done, size_t total) {
         if (progress) std::printf("\revaluating %s: %3.0f %%   ", label.c_str(), 100.0 * done / total), std::fflush(stdout);
       }));
     } catch (const sensor_replay::MavLogError& e) {
@@ -242,6 +256,8 @@ void add_eval_command(CLI::App& app, int& exit_code) {
   flights->add_option("--out", mav.out, "Folder for each flight's clouds (PCD) and height-coloured top views (PNG)")
       ->check(CLI::ExistingDirectory);
   flights->add_flag("--json", mav.json, "One JSON array, no progress");
+  flights->add_flag("--no-ground", mav.no_ground,
+                    "Fuse the barometer and the scan matcher's changes only, without the scans' ground clearance");
   on_run(*flights, exit_code, [] { return run_eval_mav(mav); });
 
   static EvalBoxesOptions boxes;

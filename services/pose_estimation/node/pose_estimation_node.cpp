@@ -61,11 +61,15 @@ class PoseEstimation : public Service {
         context.participant, "rt/pressure", [this](const auto& m, const auto&) { receive(m); });
     matches_ = std::make_unique<Reader<scanbus::msg::ScanMatchPubSubType>>(
         context.participant, "rt/scan_match", [this](const auto& m, const auto&) { receive(m); });
+    if (settings_.ground_clearance)
+      scans_ = std::make_unique<Reader<sensor_msgs::msg::LaserScanPubSubType>>(
+          context.participant, "rt/scan", [this](const auto& m, const auto&) { receive(m); });
   }
 
   int run() override {
     while (!StopSignal::requested()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    matches_.reset();  // no callback may outlive what it uses
+    scans_.reset();  // no callback may outlive what it uses
+    matches_.reset();
     pressures_.reset();
     fixes_.reset();
     imu_.reset();
@@ -120,6 +124,17 @@ class PoseEstimation : public Service {
     publish_ready();
   }
 
+  void receive(const sensor_msgs::msg::LaserScan& scan) {
+    if (!std::isfinite(scan.angle_min()) || !std::isfinite(scan.angle_increment()) || scan.angle_increment() == 0) {
+      reject("scans_rejected", "LaserScan angle_min or angle_increment not usable");
+      return;
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    estimator_.add_scan(to_seconds(scan.header().stamp()), scan.angle_min(), scan.angle_increment(), scan.range_min(),
+                        scan.range_max(), scan.ranges());
+    publish_ready();
+  }
+
   void reject(const char* counter, const std::string& why) {
     ++health_.counter(counter);
     health_.error(why);
@@ -151,6 +166,7 @@ class PoseEstimation : public Service {
       ++health_.counter("poses");
       if (!pose.has_attitude || !pose.has_position) ++health_.counter("poses_held");  // IMU or GPS missing
       if (pose.height_change && !pose.match_used) ++health_.counter("changes_rejected");
+      if (pose.clearance) ++health_.counter("clearances");  // poses whose scan showed the ground
     }
   }
 
@@ -167,6 +183,7 @@ class PoseEstimation : public Service {
   std::unique_ptr<Reader<sensor_msgs::msg::NavSatFixPubSubType>> fixes_;
   std::unique_ptr<Reader<sensor_msgs::msg::FluidPressurePubSubType>> pressures_;
   std::unique_ptr<Reader<scanbus::msg::ScanMatchPubSubType>> matches_;
+  std::unique_ptr<Reader<sensor_msgs::msg::LaserScanPubSubType>> scans_;
 };
 
 }  // namespace

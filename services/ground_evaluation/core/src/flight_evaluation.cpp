@@ -55,6 +55,7 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
   if (log.truths.empty()) throw MavLogError("the log has no TRUTH records to score against");
   pose_estimation::PoseEstimatorSettings estimator_settings;
   estimator_settings.fusion = settings.fusion;
+  estimator_settings.ground_clearance = settings.ground_clearance;
   estimator_settings.laser_in_body =
       transforms::from_xyz_rpy({mount[0], mount[1], mount[2]}, {mount[3], mount[4], mount[5]});
   estimator_settings.origin = {origin[0], origin[1], origin[2]};
@@ -82,7 +83,8 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
       integrated = integrated ? *integrated + pose.height_change.value_or(0.0) : baro;
       const double heights[3] = {baro, *integrated, pose.position.z()};
       const double true_height = truth.at(pose.stamp);
-      result.heights.push_back({pose.stamp, true_height, {heights[0], heights[1], heights[2]}});
+      result.heights.push_back(
+          {pose.stamp, true_height, {heights[0], heights[1], heights[2]}, pose.clearance.value_or(NAN)});
       const auto points = cloud_assembly::scan_points(scan_data(log.lasers[found->second]), settings.gating);
       for (int source = 0; source < 3; ++source) {
         squared[source] += std::pow(heights[source] - true_height, 2);
@@ -93,6 +95,7 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
         for (const auto& p : points) result.cloud[source].push_back((map_T_laser * p).cast<float>());
       }
       ++result.poses;
+      result.clearances += pose.clearance.has_value();
       scan_at.erase(found);
     }
   };
@@ -109,7 +112,10 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
       }
       case sensor_replay::RecordKind::Baro: estimator.add_pressure(record.stamp, log.baros[record.index].pressure); break;
       case sensor_replay::RecordKind::Laser: {
-        const auto match = matcher.add_scan(matcher_scan(log.lasers[record.index]));
+        const auto& laser = log.lasers[record.index];
+        estimator.add_scan(laser.stamp, laser.angle_min, laser.angle_increment, laser.range_min, laser.range_max,
+                           laser.ranges);
+        const auto match = matcher.add_scan(matcher_scan(laser));
         const bool ok = match.quality == scan_matcher::MatchQuality::Ok;
         result.matches_failed += !ok && match.quality != scan_matcher::MatchQuality::NoReference;
         std::optional<Eigen::Vector2d> increment;
@@ -129,6 +135,7 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
   for (int source = 0; source < 3; ++source)
     result.height_rmse[source] = result.poses ? std::sqrt(squared[source] / static_cast<double>(result.poses)) : NAN;
   result.changes_rejected = estimator.fusion().changes_rejected();
+  result.ground_levels = estimator.fusion().ground_levels();
   result.fusion_ms_per_update = result.poses ? fusion_time.count() * 1000 / static_cast<double>(result.poses) : 0;
   const auto boxes = log.meta.find("boxes");
   result.has_boxes = boxes != log.meta.end() && boxes->second.size() >= 2;

@@ -57,7 +57,7 @@ void HeightFusion::add_barometer(double stamp, double altitude) {
   pending_.push_back({stamp, altitude, settings_.baro_sigma});
 }
 
-double HeightFusion::add_node(double stamp, std::optional<double> change) {
+double HeightFusion::add_node(double stamp, std::optional<double> change, std::optional<double> clearance) {
   if (change && last_change_ && stamp - last_change_->first <= settings_.gate_memory &&
       std::abs(*change - last_change_->second) > settings_.change_gate) {
     ++changes_rejected_;
@@ -68,16 +68,18 @@ double HeightFusion::add_node(double stamp, std::optional<double> change) {
   const double predicted = first ? first_altitude_.value_or(0) : states_.at(nodes_.back().second) + change.value_or(0);
   const long height = new_state(predicted);
   if (!first && change)
-    residuals_.push_back({{nodes_.back().second, height}, {-1, 1}, *change, settings_.change_sigma, Loss::Cauchy});
+    residuals_.push_back({{nodes_.back().second, height}, {-1, 1}, *change, settings_.change_sigma,
+                          settings_.change_loss / settings_.change_sigma});
   nodes_.emplace_back(stamp, height);
+  if (clearance) add_clearance(stamp, height, *clearance);
   while (biases_.empty() || biases_.back().first < stamp) {
     const double at = biases_.empty() ? stamp : biases_.back().first + settings_.bias_spacing;
     const long bias = new_state(biases_.empty() ? 0.0 : states_.at(biases_.back().second));
     if (biases_.empty()) {
-      residuals_.push_back({{bias}, {1}, 0.0, settings_.initial_bias_sigma, Loss::None});
+      residuals_.push_back({{bias}, {1}, 0.0, settings_.initial_bias_sigma});
     } else {
       const double sigma = settings_.bias_random_walk * std::sqrt(settings_.bias_spacing);
-      residuals_.push_back({{biases_.back().second, bias}, {-1, 1}, 0.0, sigma, Loss::None});
+      residuals_.push_back({{biases_.back().second, bias}, {-1, 1}, 0.0, sigma});
     }
     biases_.emplace_back(at, bias);
   }
@@ -93,9 +95,32 @@ double HeightFusion::add_node(double stamp, std::optional<double> change) {
   return states_.at(nodes_.back().second);
 }
 
+// height - level = clearance, the level the known one nearest to where the prediction puts
+// the ground (a new one when none is within the gate).
+void HeightFusion::add_clearance(double stamp, long height, double clearance) {
+  const double ground = states_.at(height) - clearance;
+  auto nearest = std::min_element(levels_.begin(), levels_.end(), [&](const Level& a, const Level& b) {
+    return std::abs(states_.at(a.state) - ground) < std::abs(states_.at(b.state) - ground);
+  });
+  if (nearest == levels_.end() || std::abs(states_.at(nearest->state) - ground) > settings_.level_gate) {
+    if (static_cast<int>(levels_.size()) >= settings_.max_levels) {
+      const auto oldest = std::min_element(levels_.begin(), levels_.end(),
+                                           [](const Level& a, const Level& b) { return a.seen < b.seen; });
+      const long state = oldest->state;
+      levels_.erase(oldest);
+      marginalise({state});
+    }
+    levels_.push_back({new_state(ground), stamp});
+    nearest = std::prev(levels_.end());
+  }
+  nearest->seen = stamp;
+  residuals_.push_back({{height, nearest->state}, {1, -1}, clearance, settings_.clearance_sigma,
+                        settings_.clearance_loss / settings_.clearance_sigma});
+}
+
 // Height and bias interpolated linearly between their states at the sample's time.
 void HeightFusion::add_sample_residual(const Sample& sample) {
-  Linear residual{{}, {}, sample.value, sample.sigma, Loss::None};
+  Linear residual{{}, {}, sample.value, sample.sigma};
   auto interpolate = [&](const std::deque<std::pair<double, long>>& entries) {
     const size_t i = before(entries, sample.stamp), j = std::min(i + 1, entries.size() - 1);
     const double span = entries[j].first - entries[i].first;
@@ -133,7 +158,6 @@ void HeightFusion::normal_equations(const std::vector<Linear>& residuals, const 
   for (long i = 0; i < n; ++i) index[order[i]] = i;
   H = Eigen::MatrixXd::Zero(n, n);
   g = Eigen::VectorXd::Zero(n);
-  const double cauchy = settings_.change_loss / settings_.change_sigma;
   for (const auto& residual : residuals) {
     // A residual touches a few states: accumulate only their entries.
     const size_t m = residual.states.size();
@@ -145,7 +169,7 @@ void HeightFusion::normal_equations(const std::vector<Linear>& residuals, const 
     }
     r /= residual.sigma;
     double weight = 1.0;  // the loss's derivative at r^2, as Ceres weighs the residual
-    if (residual.loss == Loss::Cauchy) weight = 1 / (1 + r * r / (cauchy * cauchy));
+    if (residual.cauchy > 0) weight = 1 / (1 + r * r / (residual.cauchy * residual.cauchy));
     for (size_t i = 0; i < m; ++i) {
       const double ji = residual.coefficients[i] / residual.sigma;
       g[at[i]] += weight * ji * r;
@@ -156,12 +180,14 @@ void HeightFusion::normal_equations(const std::vector<Linear>& residuals, const 
 
 // The residuals touching the dropped states, linearised at the current estimate, become
 // one Gaussian prior on the states they share with the rest: H_kk - H_kd H_dd^-1 H_dk, the
-// Schur complement.
+// Schur complement. The previous prior joins them, so there is only ever one (its rows on
+// long-lived states, the ground levels, would otherwise pile up).
 void HeightFusion::marginalise(const std::vector<long>& dropped) {
   const std::set<long> gone(dropped.begin(), dropped.end());
   std::vector<Linear> touching, kept;
   for (auto& residual : residuals_) {
-    const bool touches = std::any_of(residual.states.begin(), residual.states.end(), [&](long s) { return gone.count(s); });
+    const bool touches = residual.prior || std::any_of(residual.states.begin(), residual.states.end(),
+                                                       [&](long s) { return gone.count(s); });
     (touches ? touching : kept).push_back(std::move(residual));
   }
   std::vector<long> order(dropped);  // dropped first, then the boundary
@@ -188,7 +214,7 @@ void HeightFusion::marginalise(const std::vector<long>& dropped) {
   for (long i = 0; i < k; ++i) x0[i] = states_.at(order[d + i]);
   const Eigen::VectorXd value = Lt * x0 - offset;
   for (long i = 0; i < k; ++i) {
-    Linear row{{}, {}, value[i], 1.0, Loss::None};
+    Linear row{{}, {}, value[i], 1.0, 0.0, true};
     for (long j = i; j < k; ++j) {
       if (Lt(i, j) == 0) continue;
       row.states.push_back(order[d + j]);
@@ -201,12 +227,10 @@ void HeightFusion::marginalise(const std::vector<long>& dropped) {
 void HeightFusion::solve() {
   ceres::Problem::Options problem_options;
   ceres::Problem problem(problem_options);
-  const double cauchy = settings_.change_loss / settings_.change_sigma;
   for (const auto& residual : residuals_) {
     std::vector<double*> blocks;
     for (long s : residual.states) blocks.push_back(&states_.at(s));
-    ceres::LossFunction* loss = nullptr;
-    if (residual.loss == Loss::Cauchy) loss = new ceres::CauchyLoss(cauchy);
+    ceres::LossFunction* loss = residual.cauchy > 0 ? new ceres::CauchyLoss(residual.cauchy) : nullptr;
     problem.AddResidualBlock(new LinearCost(residual.coefficients, residual.value, residual.sigma), loss, blocks);
   }
   ceres::Solver::Options options;

@@ -21,6 +21,11 @@ PoseEstimatorSettings pose_estimator_settings_from_config(const Config& section)
   s.laser_in_body = transforms::from_xyz_rpy({xyz[0], xyz[1], xyz[2]},
                                              Eigen::Vector3d(rpy[0], rpy[1], rpy[2]) * kDegree);
   s.max_wait = section.number("max_wait", s.max_wait, 0.0, 10.0);
+  const Config ground = section.section("ground");
+  s.ground_clearance = ground.flag("enabled", s.ground_clearance);
+  s.ground.inlier_distance = ground.number("inlier_distance", s.ground.inlier_distance, 1e-4, 10);
+  s.ground.min_inlier_share = ground.number("min_inlier_share", s.ground.min_inlier_share, 0.05, 1);
+  s.ground.max_slope = ground.number("max_slope", s.ground.max_slope / kDegree, 0.1, 60) * kDegree;
   const Config fusion = section.section("fusion");
   FusionSettings& f = s.fusion;
   f.window = fusion.number("window", f.window, 0.1, 600);
@@ -33,6 +38,10 @@ PoseEstimatorSettings pose_estimator_settings_from_config(const Config& section)
   f.change_gate = fusion.number("change_gate", f.change_gate, 1e-6, 100);
   f.gate_memory = fusion.number("gate_memory", f.gate_memory, 0, 600);
   f.solve_every = static_cast<int>(fusion.integer("solve_every", f.solve_every, 1, 1000));
+  f.clearance_sigma = fusion.number("clearance_sigma", f.clearance_sigma, 1e-5, 10);
+  f.clearance_loss = fusion.number("clearance_loss", f.clearance_loss, 1e-6, 100);
+  f.level_gate = fusion.number("level_gate", f.level_gate, 1e-3, 100);
+  f.max_levels = static_cast<int>(fusion.integer("max_levels", f.max_levels, 1, 1000));
   return s;
 }
 
@@ -81,10 +90,31 @@ void PoseEstimator::add_match(double stamp, std::optional<Eigen::Vector2d> incre
   newest_input_ = std::max(newest_input_, stamp);
 }
 
+void PoseEstimator::add_scan(double stamp, double angle_min, double angle_increment, double range_min,
+                             double range_max, const std::vector<float>& ranges) {
+  if (!settings_.ground_clearance) return;
+  if (previous_ && stamp <= previous_->first) return;  // its match is gone already
+  std::vector<Eigen::Vector2d> points;
+  points.reserve(ranges.size());
+  for (size_t i = 0; i < ranges.size(); ++i) {
+    const double range = ranges[i];
+    if (!(range >= range_min && range <= range_max)) continue;  // NaN and inf fail too
+    const double angle = angle_min + angle_increment * static_cast<double>(i);
+    points.emplace_back(range * std::cos(angle), range * std::sin(angle));
+  }
+  grounds_[stamp] = fit_ground_line(points, settings_.ground);
+  // Bounded without matches: a match never waits longer than max_wait.
+  grounds_.erase(grounds_.begin(), grounds_.lower_bound(stamp - settings_.max_wait - 1));
+  newest_scan_ = std::max(newest_scan_, stamp);
+  newest_input_ = std::max(newest_input_, stamp);
+}
+
 bool PoseEstimator::ready(const Match& match) const {
-  // The first height is the barometer's: the first result also waits for a pressure.
+  // The first height is the barometer's: the first result also waits for a pressure. Once
+  // scans come, a match waits for its own.
+  const bool scan_in = std::isinf(newest_scan_) || newest_scan_ >= match.stamp;
   const bool covered = !attitudes_.empty() && attitudes_.newest() >= match.stamp && !positions_.empty() &&
-                       positions_.newest() >= match.stamp && (previous_ || fusion_.has_barometer());
+                       positions_.newest() >= match.stamp && (previous_ || fusion_.has_barometer()) && scan_in;
   return covered || newest_input_ - match.stamp > settings_.max_wait;
 }
 
@@ -103,8 +133,12 @@ EstimatedPose PoseEstimator::estimate(const Match& match) {
                            settings_.laser_in_body);
   }
   pose.height_change = change;
+  const auto ground = grounds_.find(match.stamp);
+  if (ground != grounds_.end() && ground->second && attitude)
+    pose.clearance = ground_clearance(*ground->second, *attitude, settings_.laser_in_body, settings_.ground.max_slope);
+  grounds_.erase(grounds_.begin(), grounds_.upper_bound(match.stamp));
   const uint64_t rejected = fusion_.changes_rejected();
-  pose.position.z() = fusion_.add_node(match.stamp, change);
+  pose.position.z() = fusion_.add_node(match.stamp, change, pose.clearance);
   pose.match_used = change.has_value() && fusion_.changes_rejected() == rejected;
   if (!positions_.empty()) {
     pose.position.head<2>() = positions_.at(match.stamp, INFINITY).translation().head<2>();

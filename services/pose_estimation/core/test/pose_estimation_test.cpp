@@ -164,3 +164,149 @@ TEST(PoseEstimator, ScanMatcherChangesCarryTheHeightBetweenNoisyBarometerSamples
   EXPECT_GT(estimator.fusion().height_sigma(), 0.0);
   EXPECT_LT(estimator.fusion().height_sigma(), 0.15);
 }
+
+namespace {
+
+// A level laser 3 m over flat ground, looking down (x down, scan plane across): 361 rays over
+// 90 degrees with 2 cm noise; rays in [box_from, box_to) hit a box top `box` m high.
+std::vector<Eigen::Vector2d> ground_scan(double height, double box, int box_from, int box_to, unsigned seed) {
+  std::mt19937 random(seed);
+  std::normal_distribution<double> noise(0, 0.02);
+  std::vector<Eigen::Vector2d> points;
+  for (int i = 0; i <= 360; ++i) {
+    const double angle = (i - 180) * 0.25 * M_PI / 180;
+    const double to = (i >= box_from && i < box_to) ? height - box : height;
+    const double range = to / std::cos(angle) + noise(random);
+    points.emplace_back(range * std::cos(angle), range * std::sin(angle));
+  }
+  return points;
+}
+
+}  // namespace
+
+TEST(GroundLine, FindsTheGroundPastABoxAndNothingInClutter) {
+  const auto line = fit_ground_line(ground_scan(3.0, 0.3, 150, 200, 1));
+  ASSERT_TRUE(line.has_value());
+  EXPECT_NEAR(line->distance, 3.0, 0.005);
+  EXPECT_NEAR(line->normal.x(), 1.0, 1e-3);  // straight down the laser's x
+  EXPECT_NEAR(static_cast<double>(line->inliers), 311, 8);  // the box's 50 rays are left out
+  // Points on a circle around the laser: no line holds half of them.
+  std::vector<Eigen::Vector2d> circle;
+  for (int i = 0; i < 360; ++i) circle.emplace_back(2 * std::cos(i * M_PI / 180), 2 * std::sin(i * M_PI / 180));
+  EXPECT_FALSE(fit_ground_line(circle).has_value());
+  EXPECT_FALSE(fit_ground_line({{1, 0}, {1, 1}}).has_value());  // too few points
+}
+
+TEST(GroundLine, ClearanceIsTheBodysHeightWhateverTheAttitude) {
+  Eigen::Isometry3d mount = Eigen::Isometry3d::Identity();
+  mount.translate(Eigen::Vector3d(0, 0, -0.1));
+  mount.rotate(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()));
+  // The body 3 m up; its laser 0.1 m lower. Level, the laser sees the ground 2.9 m away.
+  GroundLine level{Eigen::Vector2d::UnitX(), 2.9, 300};
+  EXPECT_NEAR(*ground_clearance(level, Eigen::Quaterniond::Identity(), mount, 0.1), 3.0, 1e-9);
+  // Rolled 10 degrees (within the scan plane): the line turns in the laser's frame, its
+  // distance stays that of the laser, now 3 - 0.1 cos(10 deg) up.
+  const double roll = 10 * M_PI / 180;
+  const Eigen::Quaterniond rolled(Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()));
+  const double laser_up = 3 - 0.1 * std::cos(roll);
+  const GroundLine turned{Eigen::Vector2d(std::cos(roll), -std::sin(roll)), laser_up, 300};
+  EXPECT_NEAR(*ground_clearance(turned, rolled, mount, 0.1), 3.0, 1e-9);
+  // Pitched 5 degrees (the scan plane leans): the line lies further, at laser_up / cos.
+  const double pitch = 5 * M_PI / 180;
+  const Eigen::Quaterniond pitched(Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()));
+  const double laser_height = 3 - 0.1 * std::cos(pitch);
+  const GroundLine leaning{Eigen::Vector2d::UnitX(), laser_height / std::cos(pitch), 300};
+  EXPECT_NEAR(*ground_clearance(leaning, pitched, mount, 0.1), 3.0, 1e-9);
+  // Level, a line leaning 10 degrees in the scan plane is no ground (a block's edge, a wall).
+  const GroundLine slanted{Eigen::Vector2d(std::cos(0.1745), std::sin(0.1745)), 2.9, 300};
+  EXPECT_FALSE(ground_clearance(slanted, Eigen::Quaterniond::Identity(), mount, 5 * M_PI / 180).has_value());
+  EXPECT_TRUE(ground_clearance(slanted, Eigen::Quaterniond::Identity(), mount, 15 * M_PI / 180).has_value());
+}
+
+namespace {
+
+// 180 s at 30 Hz back and forth over a 1 m block (a third of each 24 s pass): the barometer
+// with 0.3 m noise and a bias wandering 0.02 m/sqrt(s), scan-matcher changes with 3 mm noise
+// (a 0.3 m jump where the block's edge passes), and the clearance above the floor or the
+// block with 5 mm noise.
+Track fly_over_block(const FusionSettings& settings, unsigned seed) {
+  std::mt19937 random(seed);
+  std::normal_distribution<double> gauss(0, 1);
+  HeightFusion fusion(settings);
+  Track track;
+  double drift = 0, previous = 0, integrated = 0;
+  bool was_over = false;
+  for (int k = 0; k < 5400; ++k) {
+    const double t = k / 30.0, h = 3 + 0.4 * std::sin(t / 3);
+    const bool over = std::fmod(t, 24.0) < 8.0;
+    if (k % 3 == 0) {
+      drift += 0.02 * std::sqrt(0.1) * gauss(random);
+      const double baro = h + drift + 0.3 * gauss(random);
+      fusion.add_barometer(t, baro);
+      track.baro.push_back(baro - h);
+      if (k == 0) integrated = baro;
+    }
+    std::optional<double> change;
+    if (k > 0) {
+      change = h - previous + 0.003 * gauss(random) + (over != was_over ? 0.3 : 0.0);
+      integrated += *change;
+    }
+    previous = h;
+    was_over = over;
+    const double clearance = h - (over ? 1.0 : 0.0) + 0.005 * gauss(random);
+    track.fused.push_back(fusion.add_node(t, change, clearance) - h);
+    track.integrated.push_back(integrated - h);
+  }
+  track.rejected = fusion.changes_rejected();
+  return track;
+}
+
+}  // namespace
+
+TEST(HeightFusion, GroundLevelsSeenAgainHoldTheHeightOverSteps) {
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const Track track = fly_over_block({}, seed);
+    const double baro = rms(track.baro), integrated = rms(track.integrated), fused = rms(track.fused);
+    double worst = 0;  // after the first 10 s, when only the barometer knows the level
+    for (size_t k = 300; k < track.fused.size(); ++k) worst = std::max(worst, std::abs(track.fused[k]));
+    std::printf("seed %u: barometer %.3f m, integrated %.3f m, fused %.3f m, worst %.3f m\n", seed, baro, integrated,
+                fused, worst);
+    EXPECT_LT(fused, 0.5 * std::min(baro, integrated));
+    EXPECT_LT(worst, 0.2);  // a block's edge never carries the height off by its 1 m
+    EXPECT_EQ(track.rejected, 15u);  // the 15 edges' jumps
+  }
+}
+
+TEST(HeightFusion, FloorAndBlockAreTwoLevels) {
+  HeightFusion fusion;
+  for (int k = 0; k < 600; ++k) {
+    const double t = k / 30.0;
+    if (k % 3 == 0) fusion.add_barometer(t, 3.0);
+    const bool over = (k / 60) % 2 == 1;
+    fusion.add_node(t, k ? std::optional<double>(0.0) : std::nullopt, over ? 2.0 : 3.0);
+  }
+  EXPECT_EQ(fusion.ground_levels(), 2u);
+  EXPECT_NEAR(fusion.height(), 3.0, 0.05);
+}
+
+TEST(PoseEstimator, OnceScansComeAMatchWaitsForItsOwn) {
+  PoseEstimator estimator(settings_at_origin());
+  estimator.add_pressure(0.0, scanbus::pressure_at_altitude(kAlt + 3));
+  for (double t : {0.0, 0.1}) {
+    estimator.add_imu(t, Eigen::Quaterniond::Identity());
+    estimator.add_fix(t, kLat, kLon, kAlt + 3, 0.5, 1.0);
+  }
+  std::vector<float> flat;
+  for (int i = 0; i <= 360; ++i) flat.push_back(static_cast<float>(2.9 / std::cos((i - 180) * 0.25 * M_PI / 180)));
+  estimator.add_scan(0.0, -M_PI / 4, 0.25 * M_PI / 180, 0.1, 30, flat);
+  estimator.add_match(0.0, std::nullopt);
+  estimator.add_match(0.05, std::nullopt);
+  auto poses = estimator.take_ready();
+  ASSERT_EQ(poses.size(), 1u);  // the second waits for its scan
+  ASSERT_TRUE(poses[0].clearance.has_value());
+  EXPECT_NEAR(*poses[0].clearance, 3.0, 1e-3);
+  estimator.add_scan(0.05, -M_PI / 4, 0.25 * M_PI / 180, 0.1, 30, std::vector<float>(361, NAN));  // no returns
+  poses = estimator.take_ready();
+  ASSERT_EQ(poses.size(), 1u);
+  EXPECT_FALSE(poses[0].clearance.has_value());
+}

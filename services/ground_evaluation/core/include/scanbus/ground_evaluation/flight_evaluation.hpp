@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
 #include <functional>
 #include <string>
 #include <vector>
@@ -29,6 +30,7 @@ scan_matcher::MatcherSettings mav_matcher_settings();
 struct FlightEvaluationSettings {
   scan_matcher::MatcherSettings matcher = mav_matcher_settings();
   pose_estimation::FusionSettings fusion;
+  bool ground_clearance = true;  // false: the fusion of barometer and scan matcher alone
   cloud_assembly::ScanGating gating{30.0, M_PI / 2};  // the paper: 30 m, 90 degrees
   BoxSearchSettings boxes;
 };
@@ -51,10 +53,13 @@ constexpr const char* kHeightSourceNames[] = {"barometer", "scan_matcher", "fuse
 struct HeightSample {
   double stamp = 0, truth = 0;
   double height[3] = {0, 0, 0};  // by HeightSource
+  double clearance = NAN;        // m above the ground line of the pose's scan, NaN when it showed none
 };
 
 struct FlightEvaluation {
   size_t scans = 0, poses = 0, matches_failed = 0, changes_rejected = 0;
+  size_t clearances = 0;     // poses whose scan showed a ground line
+  size_t ground_levels = 0;  // the fusion's at the end (floor, box tops)
   double height_rmse[3] = {0, 0, 0};  // m against the truth, by HeightSource
   double fusion_ms_per_update = 0;    // wall time of the pose estimator per scan
   bool has_boxes = false;             // the log names its boxes (scenario IV)

@@ -2,7 +2,16 @@
 // the MAV paper: the paper starts from the barometer and adds the scan matcher's height
 // changes; here every barometer sample (with a slowly wandering bias) and every
 // scan-matcher change enter one problem, the changes under a robust loss so a failed match
-// is outvoted instead of integrated. States leaving the window are marginalised (Schur
+// is outvoted instead of integrated.
+//
+// Those two alone cannot hold the height: the barometer's bias and the integrated changes
+// both wander, and nothing tells one wander from the other, so their best combination
+// still wanders (for the simulator's noise by about 0.013 m/sqrt(s), 0.12 m RMS over a
+// 3-minute flight; docs/performance.md). What pins the height down is the ground itself: each scan's ground
+// clearance (laser_height.hpp) is the height above a ground level, a state shared by every
+// scan that sees ground at that height (the floor, a block's top), so over ground seen before
+// the height cannot drift. A level's absolute height, like the MAV's, comes from the
+// barometer. States leaving the window are marginalised (Schur
 // complement) into a prior on those that stay, so nothing the window forgot is either
 // lost or counted twice. GPS altitude stays out: its error wanders over minutes, and taken
 // as independent fixes it outweighed the barometer (scenario I: 0.71 m RMSE with it,
@@ -35,6 +44,10 @@ struct FusionSettings {
                                     // a wrong minimum of the robust loss
   double gate_memory = 0.5;         // s: after this long without an accepted change, any is accepted
   int solve_every = 3;              // nodes between solves (the newest node is propagated in between)
+  double clearance_sigma = 0.01;    // m, one ground clearance (line fit, attitude, rough ground)
+  double clearance_loss = 0.03;     // m: Cauchy scale; a wrong line or level counts little
+  double level_gate = 0.25;         // m: ground further than this from every known level is a new one
+  int max_levels = 16;              // the least recently seen beyond these is marginalised
 };
 
 class HeightFusion {
@@ -48,32 +61,36 @@ class HeightFusion {
   void add_barometer(double stamp, double altitude);
 
   // A node at `stamp` (after the previous one) with the scan matcher's height change since
-  // the previous node, or none (failed match, no scan matcher). Returns the height now
-  // estimated for this node. The first node starts at the first barometer altitude.
-  double add_node(double stamp, std::optional<double> change);
+  // the previous node, or none (failed match, no scan matcher), and the height above the
+  // ground the scan saw, or none. Returns the height now estimated for this node. The first
+  // node starts at the first barometer altitude.
+  double add_node(double stamp, std::optional<double> change, std::optional<double> clearance = std::nullopt);
 
   double height() const;                        // of the newest node
   bool has_barometer() const { return first_altitude_.has_value(); }
   double bias() const;                          // the barometer's, at the newest node
+  size_t ground_levels() const { return levels_.size(); }
   double height_sigma() const { return height_sigma_; }  // m, of the newest node at the last solve
   size_t nodes_in_window() const;
   uint64_t changes_rejected() const { return changes_rejected_; }
 
  private:
-  // Every residual here is linear in the states: (sum coefficient * state - value) / sigma.
-  // A height change is under a Cauchy loss (failed matches).
-  enum class Loss { None, Cauchy };
+  // Every residual here is linear in the states: (sum coefficient * state - value) / sigma,
+  // under a Cauchy loss of scale `cauchy` (in sigmas) when that is not 0: height changes
+  // (failed matches) and clearances (wrong lines).
   struct Linear {
     std::vector<long> states;
     std::vector<double> coefficients;
     double value, sigma;
-    Loss loss;
+    double cauchy = 0;
+    bool prior = false;  // a row of the marginalisation prior
   };
   struct Sample {  // a barometer altitude
     double stamp, value, sigma;
   };
   long new_state(double initial);
   void add_sample_residual(const Sample& sample);
+  void add_clearance(double stamp, long height, double clearance);
   void solve();
   void slide();
   void marginalise(const std::vector<long>& dropped);
@@ -87,6 +104,11 @@ class HeightFusion {
   long next_state_ = 0;
   std::deque<std::pair<double, long>> nodes_;   // stamp, height state
   std::deque<std::pair<double, long>> biases_;  // stamp, bias state
+  struct Level {
+    long state;
+    double seen;  // stamp of its newest clearance
+  };
+  std::vector<Level> levels_;
   std::vector<Linear> residuals_;
   std::vector<Sample> pending_;                 // newer than the newest node
   std::optional<double> first_altitude_;

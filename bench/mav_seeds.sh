@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# The MAV targets across noise seeds: `scanbus eval mav` (four 3-minute scenarios) for each
+# seed, one markdown row per seed (fused height RMSE, its ratio to the better single source
+# in each scenario, scenario IV's box P with each height) and a summary. Extra arguments go
+# to `scanbus eval mav` (e.g. --no-ground). About 30 s per seed on one core.
+#   bench/mav_seeds.sh [--seeds 1-10] [eval mav options]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+first=1 last=10
+if [ "${1:-}" = "--seeds" ]; then
+  first=${2%-*} last=${2#*-}
+  shift 2
+fi
+scanbus=${SCANBUS:-build/services/cli/scanbus}
+[ -x "$scanbus" ] || scripts/build.sh > /dev/null
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+for seed in $(seq "$first" "$last"); do
+  [ -t 2 ] && printf '\rseed %s of %s-%s ' "$seed" "$first" "$last" >&2
+  "$scanbus" eval mav --seed "$seed" --json "$@" > "$work/$seed.json" 2> "$work/$seed.log" || {
+    cat "$work/$seed.log" >&2
+    exit 1
+  }
+done
+[ -t 2 ] && printf '\r%30s\r' "" >&2
+python3 - "$work" "$first" "$last" <<'PY'
+import json, statistics, sys
+folder, first, last = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+print("| seed | fused RMSE | ratio I | II | III | IV | scenario IV P: barometer | scan matcher | fused |")
+print("|---|---|---|---|---|---|---|---|---|")
+ratios, held, p_fused = [], 0, []
+for seed in range(first, last + 1):
+    flights = json.load(open(f"{folder}/{seed}.json"))
+    row, fused = [], []
+    for flight in flights:
+        rmse = flight["height_rmse_m"]
+        ratio = rmse["fused"] / min(rmse["barometer"], rmse["scan_matcher"])
+        ratios.append(ratio)
+        held += ratio <= 0.5
+        row.append(f"{ratio:.2f}")
+        fused.append(rmse["fused"])
+    boxes = flights[-1].get("boxes", {})
+    p = {k: (v["performance_percent"] if v["ok"] else 0.0) for k, v in boxes.items()}
+    if p: p_fused.append(p["fused"])
+    cells = [f"{p[k]:.2f} %" for k in ("barometer", "scan_matcher", "fused")] if p else ["", "", ""]
+    print(f"| {seed} | {min(fused):.3f}-{max(fused):.3f} m | " + " | ".join(row) + " | " + " | ".join(cells) + " |")
+print()
+print(f"fused <= half the better source: {held} of {len(ratios)} flights; ratio median {statistics.median(ratios):.2f}, "
+      f"worst {max(ratios):.2f}")
+if p_fused:
+    print(f"scenario IV P fused >= 99 %: {sum(p >= 99 for p in p_fused)} of {len(p_fused)} seeds; median "
+          f"{statistics.median(p_fused):.2f} %, lowest {min(p_fused):.2f} %")
+PY
