@@ -15,7 +15,8 @@ packages=(
 build_only=false
 [ "${1:-}" = "--build-only" ] && build_only=true
 if ! $build_only; then
-  # Tests, benchmarks, the firmware's AVR build, tools the tests drive, the deployment test.
+  # Tests, benchmarks, the firmware's AVR build, tools the tests drive, the deployment test,
+  # the fuzzing (clang's libFuzzer and sanitizer runtimes).
   packages+=(
     git fastdds-tools
     libgtest-dev libgmock-dev libbenchmark-dev
@@ -23,6 +24,7 @@ if ! $build_only; then
     iproute2 procps python3
     docker.io docker-compose debootstrap
     cyclonedds-dev cyclonedds-tools openssl
+    clang libclang-rt-14-dev
   )
 fi
 

@@ -34,16 +34,27 @@ struct Track {
   uint64_t rejected = 0;
 };
 
-// 60 s at 30 Hz: a height wave, a barometer at 10 Hz with 0.3 m noise and a drifting
-// bias, scan-matcher changes with 3 mm noise and five wrong ones (failed matches).
-Track fly(const FusionSettings& settings) {
-  std::mt19937 random(3);
+// A flight at 30 Hz with a height wave: the barometer at 10 Hz with 0.3 m noise and a bias
+// wandering 0.02 m/sqrt(s), scan-matcher changes with 3 mm noise and a 0.3 m jump now and
+// then (failed matches). Over a block: back and forth over a 1 m block (a third of each
+// 24 s pass), the jumps where its edges pass, and each scan's clearance above floor or
+// block with 5 mm noise.
+struct FlightPlan {
+  int scans = 1800;
+  unsigned seed = 3;
+  bool over_block = false;
+};
+
+Track fly(const FusionSettings& settings, const FlightPlan& plan = {}) {
+  std::mt19937 random(plan.seed);
   std::normal_distribution<double> gauss(0, 1);
   HeightFusion fusion(settings);
   Track track;
   double drift = 0, previous = 0, integrated = 0;
-  for (int k = 0; k < 1800; ++k) {
+  bool was_over = false;
+  for (int k = 0; k < plan.scans; ++k) {
     const double t = k / 30.0, h = 3 + 0.4 * std::sin(t / 3);
+    const bool over = plan.over_block && std::fmod(t, 24.0) < 8.0;
     if (k % 3 == 0) {
       drift += 0.02 * std::sqrt(0.1) * gauss(random);
       const double baro = h + drift + 0.3 * gauss(random);
@@ -53,12 +64,15 @@ Track fly(const FusionSettings& settings) {
     }
     std::optional<double> change;
     if (k > 0) {
-      change = h - previous + 0.003 * gauss(random);
-      if (k % 350 == 100) *change += 0.3;  // a match that jumped
+      const bool jumped = plan.over_block ? over != was_over : k % 350 == 100;
+      change = h - previous + 0.003 * gauss(random) + (jumped ? 0.3 : 0.0);
       integrated += *change;
     }
     previous = h;
-    track.fused.push_back(fusion.add_node(t, change) - h);
+    was_over = over;
+    std::optional<double> clearance;
+    if (plan.over_block) clearance = h - (over ? 1.0 : 0.0) + 0.005 * gauss(random);
+    track.fused.push_back(fusion.add_node(t, change, clearance) - h);
     track.integrated.push_back(integrated - h);
   }
   track.rejected = fusion.changes_rejected();
@@ -223,49 +237,9 @@ TEST(GroundLine, ClearanceIsTheBodysHeightWhateverTheAttitude) {
   EXPECT_TRUE(ground_clearance(slanted, Eigen::Quaterniond::Identity(), mount, 15 * M_PI / 180).has_value());
 }
 
-namespace {
-
-// 180 s at 30 Hz back and forth over a 1 m block (a third of each 24 s pass): the barometer
-// with 0.3 m noise and a bias wandering 0.02 m/sqrt(s), scan-matcher changes with 3 mm noise
-// (a 0.3 m jump where the block's edge passes), and the clearance above the floor or the
-// block with 5 mm noise.
-Track fly_over_block(const FusionSettings& settings, unsigned seed) {
-  std::mt19937 random(seed);
-  std::normal_distribution<double> gauss(0, 1);
-  HeightFusion fusion(settings);
-  Track track;
-  double drift = 0, previous = 0, integrated = 0;
-  bool was_over = false;
-  for (int k = 0; k < 5400; ++k) {
-    const double t = k / 30.0, h = 3 + 0.4 * std::sin(t / 3);
-    const bool over = std::fmod(t, 24.0) < 8.0;
-    if (k % 3 == 0) {
-      drift += 0.02 * std::sqrt(0.1) * gauss(random);
-      const double baro = h + drift + 0.3 * gauss(random);
-      fusion.add_barometer(t, baro);
-      track.baro.push_back(baro - h);
-      if (k == 0) integrated = baro;
-    }
-    std::optional<double> change;
-    if (k > 0) {
-      change = h - previous + 0.003 * gauss(random) + (over != was_over ? 0.3 : 0.0);
-      integrated += *change;
-    }
-    previous = h;
-    was_over = over;
-    const double clearance = h - (over ? 1.0 : 0.0) + 0.005 * gauss(random);
-    track.fused.push_back(fusion.add_node(t, change, clearance) - h);
-    track.integrated.push_back(integrated - h);
-  }
-  track.rejected = fusion.changes_rejected();
-  return track;
-}
-
-}  // namespace
-
 TEST(HeightFusion, GroundLevelsSeenAgainHoldTheHeightOverSteps) {
   for (unsigned seed : {1u, 2u, 3u}) {
-    const Track track = fly_over_block({}, seed);
+    const Track track = fly({}, {5400, seed, true});
     const double baro = rms(track.baro), integrated = rms(track.integrated), fused = rms(track.fused);
     double worst = 0;  // after the first 10 s, when only the barometer knows the level
     for (size_t k = 300; k < track.fused.size(); ++k) worst = std::max(worst, std::abs(track.fused[k]));
