@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -48,6 +49,14 @@ std::vector<Eigen::Vector3f> read_xyz(const std::string& path) {
     points.emplace_back(xyz[0], xyz[1], xyz[2]);
   }
   return points;
+}
+
+// A point or element count in a PCD or PLY header: decimal digits, at most 2^32.
+std::optional<unsigned long long> header_count(const std::string& text) {
+  char* end = nullptr;
+  const unsigned long long value = std::strtoull(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || text[0] == '-' || value > (1ull << 32)) return std::nullopt;
+  return value;
 }
 
 unsigned long long file_size(const std::string& path) {
@@ -93,10 +102,9 @@ void check_pcd_header(const std::string& path) {
     if (type != "I" && type != "U" && type != "F") fail("field type '" + type.substr(0, 20) + "'");
   const auto count = [&](const std::string& key, const std::string& fallback) {
     const std::string text = header.count(key) && !header[key].empty() ? header[key][0] : fallback;
-    char* end = nullptr;
-    const unsigned long long value = std::strtoull(text.c_str(), &end, 10);
-    if (text.empty() || *end != '\0' || text[0] == '-' || value > (1ull << 32)) fail(key + " '" + text.substr(0, 20) + "'");
-    return value;
+    const auto value = header_count(text);
+    if (!value) fail(key + " '" + text.substr(0, 20) + "'");
+    return *value;
   };
   for (const auto& value : header.count("COUNT") ? header["COUNT"] : std::vector<std::string>{})
     if (value.find_first_not_of("0123456789") != std::string::npos || value.empty() || value.size() > 6 || value == "0")
@@ -138,10 +146,9 @@ void check_ply_header(const std::string& path) {
     if (key == "element") {
       std::string name, text;
       words >> name >> text;
-      char* end = nullptr;
-      const unsigned long long count = std::strtoull(text.c_str(), &end, 10);
-      if (text.empty() || *end != '\0' || text[0] == '-' || count > (1ull << 32)) fail("element " + name.substr(0, 20) + " count '" + text.substr(0, 20) + "'");
-      elements.emplace_back(count, 0);
+      const auto count = header_count(text);
+      if (!count) fail("element " + name.substr(0, 20) + " count '" + text.substr(0, 20) + "'");
+      elements.emplace_back(*count, 0);
     }
     if (key == "property") {
       if (elements.empty()) fail("a property before any element");
