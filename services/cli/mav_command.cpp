@@ -32,6 +32,8 @@ struct FlightOptions {
   std::vector<double> box{0.6, 0.4, 0.3};
   unsigned seed = 1;
   std::string gps = "rtk";
+  double laser_rate = 30;   // Hz, the paper's laser
+  int laser_rays = 361;     // at 0.25 degrees: the paper's 90 degrees; 1,081 spans 270 (a Hokuyo UTM-30LX)
 };
 
 mav_sim::FlightSettings flight_settings(const FlightOptions& options) {
@@ -41,6 +43,8 @@ mav_sim::FlightSettings flight_settings(const FlightOptions& options) {
   settings.height = options.height;
   settings.box_size = {options.box[0], options.box[1], options.box[2]};
   settings.seed = options.seed;
+  settings.laser.rate = options.laser_rate;
+  settings.laser.field_of_view = (options.laser_rays - 1) * settings.laser.step;
   if (options.gps == "standalone") settings.noise = mav_sim::standalone_gps(settings.noise);
   return settings;
 }
@@ -54,6 +58,9 @@ void add_flight_options(CLI::App& command, FlightOptions& options) {
   command.add_option("--seed", options.seed, "Noise seed");
   command.add_option("--gps", options.gps, "GPS grade: rtk (centimetres) or standalone (metres of wander)")
       ->check(CLI::IsMember({"rtk", "standalone"}));
+  command.add_option("--laser-rate", options.laser_rate, "Laser scans per second")->check(CLI::Range(1.0, 200.0));
+  command.add_option("--laser-rays", options.laser_rays, "Rays per scan, 0.25 degrees apart, centred on straight down")
+      ->check(CLI::Range(2, 1441));
 }
 
 struct SimOptions {

@@ -27,6 +27,7 @@ struct RecordOptions {
   double duration = 0;
   bool reliable = false;
   bool json = false;
+  double queue_size = 256;  // MiB
 };
 
 int run_record(const RecordOptions& options) {
@@ -37,14 +38,15 @@ int run_record(const RecordOptions& options) {
   settings.reliable = options.reliable;
   settings.writer.compression = recorder::compression_from_name(options.compression);
   settings.writer.chunk_size = static_cast<size_t>(options.chunk_size * 1048576);
+  settings.queue_bytes = static_cast<size_t>(options.queue_size * 1048576);
   auto log = make_logger("record", options.json ? "warn" : "info");
   Participant participant(options.dds.settings(), "scanbus/record");
   recorder::Recording recording(participant, settings, log);
   const bool progress = !options.json && isatty(STDOUT_FILENO);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.duration);
   while (!StopSignal::wait_for(std::chrono::milliseconds(200)) && recording.failure().empty()) {
-    if (progress) std::printf("\rrecording: %lu messages, %.1f MB", static_cast<unsigned long>(recording.messages()),
-                              recording.bytes() / 1e6), std::fflush(stdout);
+    if (progress) std::printf("\rrecording: %lu messages, %.1f MB, %lu lost", static_cast<unsigned long>(recording.messages()),
+                              recording.bytes() / 1e6, static_cast<unsigned long>(recording.lost())), std::fflush(stdout);
     if (options.duration > 0 && std::chrono::steady_clock::now() > deadline) break;
   }
   if (progress) std::printf("\r%60s\r", "");
@@ -57,12 +59,15 @@ int run_record(const RecordOptions& options) {
   const auto counts = recording.counts_by_topic();
   if (options.json) {
     std::cout << nlohmann::json{{"file", options.out}, {"messages", recording.messages()},
-                                {"bytes", recording.bytes()}, {"topics", counts}}
+                                {"bytes", recording.bytes()}, {"topics", counts},
+                                {"lost", recording.lost()},   {"lost_by_topic", recording.lost_by_topic()}}
                      .dump()
               << "\n";
   } else {
-    std::cout << options.out << ": " << recording.messages() << " messages\n";
-    for (const auto& [topic, count] : counts) std::cout << "  " << topic << ": " << count << "\n";
+    std::cout << options.out << ": " << recording.messages() << " messages, " << recording.lost() << " lost\n";
+    const auto lost = recording.lost_by_topic();
+    for (const auto& [topic, count] : counts)
+      std::cout << "  " << topic << ": " << count << (lost.count(topic) ? ", " + std::to_string(lost.at(topic)) + " lost" : "") << "\n";
   }
   return 0;
 }
@@ -205,6 +210,8 @@ void add_record_commands(CLI::App& app, int& exit_code) {
       ->check(CLI::NonNegativeNumber);
   command->add_flag("--reliable", record.reliable,
                    "Read every topic RELIABLE (default: as the catalogue; sensor topics are best effort)");
+  command->add_option("--queue-size", record.queue_size, "MiB of samples waiting for the file before readers block")
+      ->check(CLI::Range(0.001, 65536.0));
   command->add_flag("--json", record.json, "One JSON summary line, no progress");
   add_dds_options(*command, record.dds);
   on_run(*command, exit_code, [] { return input_errors_exit_2("record", [] { return run_record(record); }); });

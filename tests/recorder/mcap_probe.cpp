@@ -3,6 +3,10 @@
 // with such a list.
 //   mcap_probe publish COUNT EXPECTED   one topic per type, COUNT samples each, RELIABLE
 //   mcap_probe receive EXPECTED SECONDS exit 0 when everything arrived intact and in order
+//   mcap_probe burst COUNT RAYS keep_all|keep_last
+//                                       COUNT LaserScans on rt/scan as fast as write() takes
+//                                       them, RELIABLE with an unbounded (keep_all) or a
+//                                       5-sample (keep_last) writer queue; prints how many
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -144,6 +148,29 @@ int receive(const std::string& expected_path, double seconds) {
   return failures == 0 ? 0 : 1;
 }
 
+int burst(uint32_t count, uint32_t rays, const std::string& history) {
+  Participant participant(dds_settings_from_config(Config::parse("", "")), "mcap_probe/burst");
+  Writer<sensor_msgs::msg::LaserScanPubSubType> writer(participant, "rt/scan",
+                                                       QosSettings{true, false, history == "keep_all", 5});
+  if (!writer.wait_for_readers(1, std::chrono::seconds(20))) throw std::runtime_error("no reader on rt/scan within 20 s");
+  sensor_msgs::msg::LaserScan scan;
+  scan.header().frame_id("laser");
+  scan.ranges(std::vector<float>(rays, 3.0f));
+  // The first sample is acknowledged before the burst: a writer's losses count from its
+  // first sample that arrives (docs/recording.md), as the recorder cannot tell earlier ones
+  // from samples written before it joined.
+  uint32_t published = writer.write(scan) ? 1 : 0;
+  writer.wait_for_acknowledgments(std::chrono::seconds(10));
+  for (uint32_t i = 1; i < count; ++i) {
+    scan.header().stamp().sec(static_cast<int32_t>(i));
+    published += writer.write(scan) ? 1 : 0;
+  }
+  // The last samples are delivered before the writer goes (a KEEP_LAST writer keeps them).
+  writer.wait_for_acknowledgments(std::chrono::seconds(30));
+  std::cout << "{\"published\": " << published << "}" << std::endl;
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -151,7 +178,9 @@ int main(int argc, char** argv) {
     const std::string mode = argc > 1 ? argv[1] : "";
     if (mode == "publish" && argc == 4) return publish(static_cast<uint32_t>(std::stoul(argv[2])), argv[3]);
     if (mode == "receive" && argc == 4) return receive(argv[2], std::stod(argv[3]));
-    std::cerr << "usage: mcap_probe publish COUNT EXPECTED | receive EXPECTED SECONDS\n";
+    if (mode == "burst" && argc == 5 && (std::string(argv[4]) == "keep_all" || std::string(argv[4]) == "keep_last"))
+      return burst(static_cast<uint32_t>(std::stoul(argv[2])), static_cast<uint32_t>(std::stoul(argv[3])), argv[4]);
+    std::cerr << "usage: mcap_probe publish COUNT EXPECTED | receive EXPECTED SECONDS | burst COUNT RAYS keep_all|keep_last\n";
     return 2;
   } catch (const std::exception& error) {
     std::cerr << "mcap_probe: " << error.what() << "\n";

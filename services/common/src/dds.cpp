@@ -129,8 +129,13 @@ dds::DataReaderQos reader_qos(const QosSettings& qos) {
 
 dds::DataWriter* create_writer(Participant& participant, const std::string& topic, dds::TopicDataType* type,
                                const QosSettings& qos) {
-  dds::DataWriter* writer = participant.publisher()->create_datawriter(participant.topic(topic, type), writer_qos(qos));
-  if (!writer) throw DdsError("cannot create writer on '" + topic + "' (" + describe(qos) + ")");
+  return create_writer(participant, topic, type, writer_qos(qos), describe(qos));
+}
+
+dds::DataWriter* create_writer(Participant& participant, const std::string& topic, dds::TopicDataType* type,
+                               const dds::DataWriterQos& qos, const std::string& qos_text) {
+  dds::DataWriter* writer = participant.publisher()->create_datawriter(participant.topic(topic, type), qos);
+  if (!writer) throw DdsError("cannot create writer on '" + topic + "' (" + qos_text + ")");
   return writer;
 }
 

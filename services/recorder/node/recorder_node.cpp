@@ -20,9 +20,14 @@ class RecorderService : public Service {
     Recording recording(raw, settings_, context_.log);
     auto& messages = context_.health.counter("messages_recorded");
     auto& bytes = context_.health.counter("bytes_recorded");
+    auto& lost = context_.health.counter("samples_lost");
     while (!StopSignal::wait_for(std::chrono::milliseconds(200))) {
       messages = recording.messages();
       bytes = recording.bytes();
+      if (const uint64_t now_lost = recording.lost(); now_lost > lost) {
+        lost = now_lost;
+        context_.health.error(std::to_string(now_lost) + " samples lost before reaching the recorder");
+      }
       if (const std::string failure = recording.failure(); !failure.empty()) {
         context_.health.error(failure);  // FAILED would need a restart anyway: exit and say why
         context_.log->error("recording stopped: {}", failure);

@@ -2,6 +2,8 @@
 // config's qos section says otherwise) feeding a bounded queue that one thread writes to
 // an MCAP file (ros2 profile, cdr messages, ros2msg schemas). A full queue blocks the DDS
 // listener instead of dropping, so reliable writers are slowed, never lose samples.
+// Samples that never reached the recorder (a best-effort writer outrunning it, a KEEP_LAST
+// queue overflowing) show as gaps in their writer's sequence numbers: counted as lost.
 #pragma once
 
 #include <spdlog/spdlog.h>
@@ -49,6 +51,9 @@ class Recording {
   uint64_t messages() const;
   uint64_t bytes() const;
   std::map<std::string, uint64_t> counts_by_topic() const;
+  // Samples lost before reaching the recorder, by topic (topics without loss absent).
+  std::map<std::string, uint64_t> lost_by_topic() const;
+  uint64_t lost() const;
 
  private:
   struct Pending {
@@ -58,6 +63,7 @@ class Recording {
     RawSample data;
   };
   void enqueue(uint16_t channel, const RawSample& sample, const eprosima::fastdds::dds::SampleInfo& info);
+  void count_lost(uint16_t channel, const eprosima::fastdds::dds::SampleInfo& info);  // mutex_ held
   void write_loop();
 
   RecorderSettings settings_;
@@ -71,6 +77,8 @@ class Recording {
   bool stopping_ = false;
   uint64_t written_bytes_ = 0;
   std::map<std::string, uint64_t> written_by_topic_;
+  std::map<eprosima::fastrtps::rtps::GUID_t, int64_t> last_sequence_;  // by writer
+  std::map<std::string, uint64_t> lost_by_topic_;
   std::string failure_;  // the writer thread's error, reported by stop()
   std::vector<std::unique_ptr<RawReader>> readers_;
   std::thread thread_;

@@ -76,6 +76,11 @@ eprosima::fastdds::dds::DataReaderQos reader_qos(const QosSettings& qos);
 eprosima::fastdds::dds::DataWriter* create_writer(Participant& participant, const std::string& topic,
                                                   eprosima::fastdds::dds::TopicDataType* type,
                                                   const QosSettings& qos);
+// With Fast DDS's own QoS, for what QosSettings does not say (a bounded KEEP_ALL queue).
+eprosima::fastdds::dds::DataWriter* create_writer(Participant& participant, const std::string& topic,
+                                                  eprosima::fastdds::dds::TopicDataType* type,
+                                                  const eprosima::fastdds::dds::DataWriterQos& qos,
+                                                  const std::string& qos_text = "its own QoS");
 eprosima::fastdds::dds::DataReader* create_reader(Participant& participant, const std::string& topic,
                                                   eprosima::fastdds::dds::TopicDataType* type,
                                                   const QosSettings& qos,
@@ -91,6 +96,9 @@ class Writer {
   Writer(Participant& participant, const std::string& topic)
       : Writer(participant, topic, participant.qos(topic)) {}
   Writer(Participant& participant, const std::string& topic, const QosSettings& qos)
+      : participant_(participant), topic_(topic),
+        writer_(create_writer(participant, topic, new PubSubType(), qos)) {}
+  Writer(Participant& participant, const std::string& topic, const eprosima::fastdds::dds::DataWriterQos& qos)
       : participant_(participant), topic_(topic),
         writer_(create_writer(participant, topic, new PubSubType(), qos)) {}
   ~Writer() { delete_writer(participant_, writer_); }
