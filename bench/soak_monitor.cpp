@@ -49,15 +49,19 @@ class LatencyProbe {
     while (seen_.size() > 20000) seen_.erase(seen_.begin());  // 200 s at 100 Hz
   }
   void pose(double stamp) { record(stamp, pose_ms_, poses_); }
-  void cloud(double stamp) { record(stamp, cloud_ms_, clouds_); }
+  void cloud(double stamp, uint32_t points) {
+    record(stamp, cloud_ms_, clouds_);
+    map_points_ = points;
+  }
 
   struct Period {
     uint64_t scans, poses, clouds;
     std::vector<double> pose_ms, cloud_ms;
+    uint32_t map_points;  // in the newest assembled cloud
   };
   Period take() {
     std::lock_guard<std::mutex> lock(mutex_);
-    Period period{scans_, poses_, clouds_, std::move(pose_ms_), std::move(cloud_ms_)};
+    Period period{scans_, poses_, clouds_, std::move(pose_ms_), std::move(cloud_ms_), map_points_};
     scans_ = poses_ = clouds_ = 0;
     pose_ms_.clear();
     cloud_ms_.clear();
@@ -76,6 +80,7 @@ class LatencyProbe {
   std::map<double, Clock::time_point> seen_;
   uint64_t scans_ = 0, poses_ = 0, clouds_ = 0;
   std::vector<double> pose_ms_, cloud_ms_;
+  uint32_t map_points_ = 0;
 };
 
 int monitor(double seconds, double period, double warm_up, const std::vector<Service>& services) {
@@ -88,10 +93,10 @@ int monitor(double seconds, double period, double warm_up, const std::vector<Ser
   Reader<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType> poses(
       participant, "rt/pose", [&](const auto& m, const auto&) { probe.pose(to_seconds(m.header().stamp())); });
   Reader<sensor_msgs::msg::PointCloud2PubSubType> clouds(
-      participant, "rt/cloud/assembled", [&](const auto& m, const auto&) { probe.cloud(to_seconds(m.header().stamp())); });
+      participant, "rt/cloud/assembled", [&](const auto& m, const auto&) { probe.cloud(to_seconds(m.header().stamp()), m.width() * m.height()); });
 
-  std::printf("%6s %6s %6s | pose latency ms: %5s %5s %5s | cloud ms: %5s %5s |", "t s", "scans", "poses", "p50", "p99",
-              "max", "p50", "max");
+  std::printf("%6s %6s %6s | pose latency ms %5s %5s %5s | cloud ms %5s %5s %9s |", "t s", "scans", "poses", "p50",
+              "p99", "max", "p50", "max", "points");
   for (const auto& service : services) std::printf(" %14s", (service.name + " MB").c_str());
   std::printf("\n");
   struct Row {
@@ -108,9 +113,9 @@ int monitor(double seconds, double period, double warm_up, const std::vector<Ser
       break;
     LatencyProbe::Period p = probe.take();
     Row row{next, percentile(p.pose_ms, 0.5), percentile(p.pose_ms, 0.99), {}};
-    std::printf("%6.0f %6lu %6lu | %21.1f %5.1f %5.1f | %14.1f %5.1f |", next, static_cast<unsigned long>(p.scans),
+    std::printf("%6.0f %6lu %6lu | %21.1f %5.1f %5.1f | %14.1f %5.1f %9u |", next, static_cast<unsigned long>(p.scans),
                 static_cast<unsigned long>(p.poses), row.pose_p50, row.pose_p99, percentile(p.pose_ms, 1.0),
-                percentile(p.cloud_ms, 0.5), percentile(p.cloud_ms, 1.0));
+                percentile(p.cloud_ms, 0.5), percentile(p.cloud_ms, 1.0), p.map_points);
     for (const auto& service : services) {
       row.rss.push_back(rss_mb(service.pid));
       std::printf(" %14.1f", row.rss.back());

@@ -214,6 +214,7 @@ class CloudAssembly : public Service {
       published_size_ = continuous_.size();
       points = continuous_.points();
       stamp = newest_;
+      health_.counter("voxels") = continuous_.size();
       health_.counter("voxels_dropped") = continuous_.dropped();
     }
     assembled_.write(to_coloured_point_cloud2(points, colours_by_height(points), settings_.fixed_frame, to_stamp(stamp)));

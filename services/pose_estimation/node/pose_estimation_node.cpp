@@ -135,12 +135,26 @@ class PoseEstimation : public Service {
     publish_ready();
   }
 
+  // A barometer jump is left out of the fusion (FusionSettings::baro_gate_time): counted,
+  // and said in Health at most once a second while it lasts.
+  void report_barometer_outliers() {
+    const uint64_t outliers = estimator_.fusion().barometer_outliers();
+    auto& counter = health_.counter("pressures_outlying");
+    if (outliers == counter) return;
+    counter = outliers;
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_outlier_report_ < std::chrono::seconds(1)) return;
+    last_outlier_report_ = now;
+    health_.error("barometer more than 5 sigma off the fused height (" + std::to_string(outliers) + " samples so far)");
+  }
+
   void reject(const char* counter, const std::string& why) {
     ++health_.counter(counter);
     health_.error(why);
   }
 
   void publish_ready() {
+    report_barometer_outliers();
     for (const auto& pose : estimator_.take_ready()) {
       geometry_msgs::msg::PoseWithCovarianceStamped message;
       message.header().stamp(to_stamp(pose.stamp));
@@ -172,6 +186,7 @@ class PoseEstimation : public Service {
 
   std::shared_ptr<spdlog::logger> log_;
   HealthReporter& health_;
+  std::chrono::steady_clock::time_point last_outlier_report_;
   PoseEstimatorSettings settings_;
   Frames frames_;
   std::mutex mutex_;

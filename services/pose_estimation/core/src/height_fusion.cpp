@@ -67,9 +67,15 @@ double HeightFusion::add_node(double stamp, std::optional<double> change, std::o
   const bool first = nodes_.empty();
   const double predicted = first ? first_altitude_.value_or(0) : states_.at(nodes_.back().second) + change.value_or(0);
   const long height = new_state(predicted);
-  if (!first && change)
+  if (!first && change) {
     residuals_.push_back({{nodes_.back().second, height}, {-1, 1}, *change, settings_.change_sigma,
                           settings_.change_loss / settings_.change_sigma});
+  } else if (!first) {
+    // No change measured (a failed match, a blind laser): the height still moves no faster
+    // than the vehicle climbs, which keeps it from following each barometer sample's noise.
+    const double dt = stamp - nodes_.back().first;
+    residuals_.push_back({{nodes_.back().second, height}, {-1, 1}, 0.0, std::max(settings_.max_climb_rate * dt, 1e-3)});
+  }
   nodes_.emplace_back(stamp, height);
   if (clearance) add_clearance(stamp, height, *clearance);
   while (biases_.empty() || biases_.back().first < stamp) {
@@ -134,6 +140,15 @@ void HeightFusion::add_sample_residual(const Sample& sample) {
   };
   interpolate(nodes_);
   interpolate(biases_);
+  double estimate = 0;
+  for (size_t i = 0; i < residual.states.size(); ++i) estimate += residual.coefficients[i] * states_.at(residual.states[i]);
+  if (std::abs(sample.value - estimate) <= 5 * sample.sigma) {
+    barometer_off_since_.reset();
+  } else {
+    ++barometer_outliers_;
+    if (!barometer_off_since_) barometer_off_since_ = sample.stamp;
+    if (sample.stamp - *barometer_off_since_ < settings_.baro_gate_time) return;
+  }
   residuals_.push_back(std::move(residual));
 }
 

@@ -30,6 +30,7 @@ PoseEstimatorSettings pose_estimator_settings_from_config(const Config& section)
   FusionSettings& f = s.fusion;
   f.window = fusion.number("window", f.window, 0.1, 600);
   f.baro_sigma = fusion.number("baro_sigma", f.baro_sigma, 1e-4, 100);
+  f.baro_gate_time = fusion.number("baro_gate_time", f.baro_gate_time, 0, 3600);
   f.bias_random_walk = fusion.number("bias_random_walk", f.bias_random_walk, 1e-6, 100);
   f.bias_spacing = fusion.number("bias_spacing", f.bias_spacing, 0.01, 600);
   f.initial_bias_sigma = fusion.number("initial_bias_sigma", f.initial_bias_sigma, 1e-6, 1000);

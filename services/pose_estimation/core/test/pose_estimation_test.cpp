@@ -31,7 +31,7 @@ namespace {
 
 struct Track {
   std::vector<double> truth, baro, fused, integrated;
-  uint64_t rejected = 0;
+  uint64_t rejected = 0, baro_outliers = 0;
 };
 
 // A flight at 30 Hz with a height wave: the barometer at 10 Hz with 0.3 m noise and a bias
@@ -43,6 +43,7 @@ struct FlightPlan {
   int scans = 1800;
   unsigned seed = 3;
   bool over_block = false;
+  double baro_jump = 0;  // m added to the barometer from 20 to 25 s (a gust, a door, a fault)
 };
 
 Track fly(const FusionSettings& settings, const FlightPlan& plan = {}) {
@@ -57,7 +58,7 @@ Track fly(const FusionSettings& settings, const FlightPlan& plan = {}) {
     const bool over = plan.over_block && std::fmod(t, 24.0) < 8.0;
     if (k % 3 == 0) {
       drift += 0.02 * std::sqrt(0.1) * gauss(random);
-      const double baro = h + drift + 0.3 * gauss(random);
+      const double baro = h + drift + 0.3 * gauss(random) + (t >= 20 && t < 25 ? plan.baro_jump : 0.0);
       fusion.add_barometer(t, baro);
       track.baro.push_back(baro - h);
       if (k == 0) integrated = baro;
@@ -76,6 +77,7 @@ Track fly(const FusionSettings& settings, const FlightPlan& plan = {}) {
     track.integrated.push_back(integrated - h);
   }
   track.rejected = fusion.changes_rejected();
+  track.baro_outliers = fusion.barometer_outliers();
   return track;
 }
 
@@ -94,6 +96,35 @@ TEST(HeightFusion, BeatsBarometerAndIntegrationAndIgnoresFailedMatches) {
   EXPECT_LT(fused, 0.5 * std::min(baro, integrated));
   EXPECT_LT(fused, 0.1);
   EXPECT_EQ(track.rejected, 5u);  // the five jumps, and nothing else
+}
+
+TEST(HeightFusion, ABarometerJumpIsCountedAndBarelyMovesTheHeight) {
+  for (bool over_block : {false, true}) {
+    const Track steady = fly({}, {1800, 3, over_block, 0.0});
+    const Track jumped = fly({}, {1800, 3, over_block, 10.0});
+    double worst = 0;  // the fused height's change from the jump, 20 to 30 s
+    for (size_t k = 600; k < 900; ++k) worst = std::max(worst, std::abs(jumped.fused[k] - steady.fused[k]));
+    std::printf("%s: a 10 m barometer jump for 5 s moved the fused height by at most %.3f m; %lu outliers\n",
+                over_block ? "with clearances" : "changes only", worst, static_cast<unsigned long>(jumped.baro_outliers));
+    EXPECT_LT(worst, 0.1);
+    EXPECT_EQ(jumped.baro_outliers, 50u);  // 5 s at 10 Hz
+    EXPECT_EQ(steady.baro_outliers, 0u);
+    EXPECT_LT(rms(jumped.fused), 0.1);
+  }
+}
+
+TEST(HeightFusion, ABarometerShiftThatPersistsIsBelievedAfterTheGateTime) {
+  HeightFusion fusion;
+  double at_15s = 0;
+  for (int k = 0; k < 400; ++k) {
+    const double t = k * 0.1;
+    fusion.add_barometer(t, t < 10 ? 5.0 : 8.0);  // a 3 m step at 10 s that stays
+    fusion.add_node(t, std::nullopt);
+    if (k == 150) at_15s = fusion.height();
+  }
+  EXPECT_NEAR(at_15s, 5.0, 0.05);  // within baro_gate_time: left out
+  EXPECT_NEAR(fusion.height(), 8.0, 0.1);  // then believed
+  EXPECT_GE(fusion.barometer_outliers(), 100u);
 }
 
 TEST(HeightFusion, WithoutChangesItFollowsTheBarometer) {

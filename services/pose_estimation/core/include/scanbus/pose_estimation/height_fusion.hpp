@@ -32,6 +32,10 @@ namespace scanbus::pose_estimation {
 struct FusionSettings {
   double window = 3.0;              // s of nodes kept in the problem
   double baro_sigma = 0.3;          // m, white noise of one barometer altitude
+  double baro_gate_time = 10.0;     // s: a barometer altitude 5 sigma off the estimate (a gust,
+                                    // a door, a fault) is counted and left out, unless the
+                                    // barometer has been that far off for this long: a shift
+                                    // that persists is believed (the only absolute height)
   double bias_random_walk = 0.02;   // m/sqrt(s): how fast the barometer's bias wanders
   double bias_spacing = 1.0;        // s between bias states (linear in between)
   double initial_bias_sigma = 0.05; // m: the barometer is referenced on the ground at the start
@@ -42,6 +46,7 @@ struct FusionSettings {
                                     // velocity jump of 1.5 m/s between scans at 30 Hz) is a
                                     // failed match, left out before it can pull the window into
                                     // a wrong minimum of the robust loss
+  double max_climb_rate = 1.0;      // m/s, one sigma: between nodes without a change
   double gate_memory = 0.5;         // s: after this long without an accepted change, any is accepted
   int solve_every = 3;              // nodes between solves (the newest node is propagated in between)
   double clearance_sigma = 0.01;    // m, one ground clearance (line fit, attitude, rough ground)
@@ -66,6 +71,9 @@ class HeightFusion {
   // node starts at the first barometer altitude.
   double add_node(double stamp, std::optional<double> change, std::optional<double> clearance = std::nullopt);
 
+  // Barometer altitudes more than 5 sigma from the estimate when they entered (left out
+  // unless the barometer has been off for baro_gate_time).
+  uint64_t barometer_outliers() const { return barometer_outliers_; }
   double height() const;                        // of the newest node
   bool has_barometer() const { return first_altitude_.has_value(); }
   double bias() const;                          // the barometer's, at the newest node
@@ -112,6 +120,8 @@ class HeightFusion {
   std::vector<Linear> residuals_;
   std::vector<Sample> pending_;                 // newer than the newest node
   std::optional<double> first_altitude_;
+  uint64_t barometer_outliers_ = 0;
+  std::optional<double> barometer_off_since_;
   int since_solve_ = 0;
   double height_sigma_ = 0;
   std::optional<std::pair<double, double>> last_change_;  // stamp, value of the last accepted change

@@ -1,0 +1,89 @@
+#!/usr/bin/env bash
+# Kill -9 and restart in the MAV pipeline (docs/testing.md "Faults"): a 75 s scenario I
+# flight replayed in real time through scan_matcher, pose_estimation and cloud_assembly,
+# each its own process. One after another, each service is killed with SIGKILL and
+# started again 1 s later:
+# - pose_estimation: poses resume (the new process calibrates the barometer afresh);
+# - scan_matcher: matches and poses resume (its first scan has no predecessor);
+# - cloud_assembly: it gets the static transform again (TRANSIENT_LOCAL from
+#   pose_estimation) and a late subscriber gets an assembled cloud.
+# No other service dies or stops working because one did; none logs a crash.
+#   mav_kill_restart.sh SCANBUS CONFIG
+set -uo pipefail
+scanbus=$1
+config=$2
+work=$(mktemp -d)
+pids=()
+cleanup() {
+  for pid in "${pids[@]}"; do kill -9 "$pid" 2> /dev/null; done
+  wait 2> /dev/null
+  rm -rf "$work"
+}
+trap cleanup EXIT
+failures=0
+fail() { echo "FAIL $*"; failures=$((failures + 1)); }
+lines() { wc -l < "$1" 2> /dev/null || echo 0; }
+# grows FILE BY SECONDS: FILE gains BY lines within SECONDS.
+grows() {
+  local target=$(( $(lines "$1") + $2 )) deadline=$((SECONDS + $3))
+  while [ "$(lines "$1")" -lt "$target" ]; do
+    [ "$SECONDS" -ge "$deadline" ] && return 1
+    sleep 0.2
+  done
+}
+
+"$scanbus" sim mav --scenario 1 --duration 75 --out "$work/flight.mavlog" > /dev/null || exit 1
+printf 'sensor_replay:\n  log: %s\n  rate: 1\n  truth: false\n  wait_for_readers: 3\n  wait_timeout: 30\n' \
+  "$work/flight.mavlog" > "$work/sensor_replay.yaml"
+cp "$config/mav/scan_matcher.yaml" "$work/scan_matcher.yaml"
+cp "$config/services/pose_estimation.yaml" "$work/pose_estimation.yaml"
+cp "$config/services/cloud_assembly.yaml" "$work/cloud_assembly.yaml"
+declare -A pid_of
+start() {
+  "$scanbus" run "$1" --config "$work/$1.yaml" >> "$work/$1.log" 2>&1 &
+  pid_of[$1]=$!
+  pids+=($!)
+}
+for service in scan_matcher pose_estimation cloud_assembly; do start "$service"; done
+"$scanbus" echo rt/pose > "$work/poses.jsonl" 2> /dev/null &
+pids+=($!)
+"$scanbus" echo rt/scan_match > "$work/matches.jsonl" 2> /dev/null &
+pids+=($!)
+start sensor_replay
+grows "$work/poses.jsonl" 100 40 || { fail "no poses at the start"; tail -3 "$work"/*.log; exit 1; }
+echo "pipeline running: $(lines "$work/poses.jsonl") poses"
+
+restart() {  # restart SERVICE: SIGKILL, 1 s, start again
+  kill -9 "${pid_of[$1]}"; wait "${pid_of[$1]}" 2> /dev/null
+  sleep 1
+  start "$1"
+}
+others_alive() {
+  for service in scan_matcher pose_estimation cloud_assembly sensor_replay; do
+    [ "$service" = "$1" ] && continue
+    kill -0 "${pid_of[$service]}" 2> /dev/null || fail "$service died after $1 was killed"
+  done
+}
+
+restart pose_estimation
+grows "$work/poses.jsonl" 100 15 && echo "ok   poses resumed after pose_estimation was killed and restarted" ||
+  fail "no poses within 15 s of pose_estimation's restart"
+others_alive pose_estimation
+
+restart scan_matcher
+grows "$work/matches.jsonl" 100 15 && grows "$work/poses.jsonl" 100 15 &&
+  echo "ok   matches and poses resumed after scan_matcher was killed and restarted" ||
+  fail "no matches or poses within 15 s of scan_matcher's restart"
+others_alive scan_matcher
+
+restart cloud_assembly
+sleep 3  # a second of scans, then its periodic publication
+if "$scanbus" echo rt/cloud/assembled -n 1 --timeout 10 > /dev/null 2>&1; then
+  echo "ok   a late subscriber got an assembled cloud from the restarted cloud_assembly"
+else
+  fail "no assembled cloud from the restarted cloud_assembly"; tail -5 "$work/cloud_assembly.log"
+fi
+others_alive cloud_assembly
+grep -l "terminate called\|Segmentation\|Aborted" "$work"/*.log && fail "a service crashed"
+[ "$failures" -eq 0 ] || { echo "FAIL: $failures checks"; exit 1; }
+echo "kill -9 and restart: the MAV pipeline resumed after each service"
