@@ -113,9 +113,11 @@ int monitor(double seconds, double period, double warm_up, const std::vector<Ser
       break;
     LatencyProbe::Period p = probe.take();
     Row row{next, percentile(p.pose_ms, 0.5), percentile(p.pose_ms, 0.99), {}};
-    std::printf("%6.0f %6lu %6lu | %21.1f %5.1f %5.1f | %14.1f %5.1f %9u |", next, static_cast<unsigned long>(p.scans),
-                static_cast<unsigned long>(p.poses), row.pose_p50, row.pose_p99, percentile(p.pose_ms, 1.0),
-                percentile(p.cloud_ms, 0.5), percentile(p.cloud_ms, 1.0), p.map_points);
+    std::printf("%6.0f %6lu %6lu | %21.1f %5.1f %5.1f |", next, static_cast<unsigned long>(p.scans),
+                static_cast<unsigned long>(p.poses), row.pose_p50, row.pose_p99, percentile(p.pose_ms, 1.0));
+    // cloud_assembly publishes only when its map grew: none once the voxel budget is full.
+    if (p.cloud_ms.empty()) std::printf(" %14s %5s %9u |", "-", "-", p.map_points);
+    else std::printf(" %14.1f %5.1f %9u |", percentile(p.cloud_ms, 0.5), percentile(p.cloud_ms, 1.0), p.map_points);
     for (const auto& service : services) {
       row.rss.push_back(rss_mb(service.pid));
       std::printf(" %14.1f", row.rss.back());

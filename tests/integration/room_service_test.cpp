@@ -60,13 +60,13 @@ std::optional<typename PubSubType::type> first_sample(Participant& participant, 
 }  // namespace
 
 TEST(RoomService, MeasuresAScanAndLatchesTheResult) {
-  setenv("SCANBUS_DOMAIN_ID", "81", 1);
+  setenv("SCANBUS_DOMAIN_ID", "83", 1);
   char dir[] = "/tmp/scanbus_room_service_XXXXXX";
   const std::string work = mkdtemp(dir);
   std::ofstream(work + "/room.yaml") << "room_measurement:\n  scans: 1\n";
   ChildProcess service(SCANBUS_CLI, {"run", "room_measurement", "--config", work + "/room.yaml"}, work + "/room.log");
 
-  Participant participant(DdsSettings{"", "localhost", 81}, "scanbus/test_room");
+  Participant participant(DdsSettings{"", "localhost", 83}, "scanbus/test_room");
   Writer<sensor_msgs::msg::PointCloud2PubSubType> scans(participant, "rt/scanner/scan_cloud");
   ASSERT_TRUE(scans.wait_for_readers(1, 20s));
   ASSERT_TRUE(scans.write(to_point_cloud2(box_room(), "scanner", {})));
@@ -75,7 +75,7 @@ TEST(RoomService, MeasuresAScanAndLatchesTheResult) {
   std::this_thread::sleep_for(500ms);
 
   // A subscriber that joins now, after the result went out.
-  Participant late(DdsSettings{"", "localhost", 81}, "scanbus/test_room_late");
+  Participant late(DdsSettings{"", "localhost", 83}, "scanbus/test_room_late");
   const auto room = first_sample<scanbus::msg::RoomMeasurementPubSubType>(late, "rt/room/measurement", 10s);
   ASSERT_TRUE(room.has_value());
   EXPECT_EQ(room->status(), scanbus::msg::RoomMeasurement_Constants::OK) << room->message();

@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 
@@ -49,6 +50,13 @@ ChildProcess::ChildProcess(const std::string& executable, const std::vector<std:
 ChildProcess::~ChildProcess() {
   if (pid_ <= 0) return;
   kill(pid_, SIGTERM);
+  // Services stop within a second of SIGTERM; one that does not must not hang its parent.
+  for (int waited_ms = 0; waited_ms < 10000; waited_ms += 20) {
+    if (exited()) return;
+    usleep(20000);
+  }
+  std::fprintf(stderr, "%s did not stop within 10 s of SIGTERM: killed (see %s)\n", name_.c_str(), log_path_.c_str());
+  kill(pid_, SIGKILL);
   int status = 0;
   waitpid(pid_, &status, 0);
 }
