@@ -33,7 +33,7 @@ sleep 3
 secure "$scanbus" replay "$data/room_scan.mcap" --topics /scanner/scan_cloud --rate 0 --wait-for-readers 1 \
   --wait-timeout 30 > "$work/replay.log" 2>&1
 
-wait "$secure_reader" || { echo "FAIL: no RoomMeasurement on the secure profile"; cat "$work/room.log"; exit 1; }
+wait "$secure_reader" || { echo "FAIL: no RoomMeasurement on the secure profile"; cat "$work/room.log" "$work/secure.log"; exit 1; }
 "$root/tests/support/check_room.py" "$work/secure.json" 0.01 "ok   secure services together: replay -> room_measurement -> reader"
 status=0
 wait "$plain_reader" || status=$?

@@ -10,18 +10,10 @@
 #    room_measurement (not restarted) measures the new scan.
 #   kill_restart.sh SCANBUS CONFIG
 set -uo pipefail
+source "$(dirname "$0")/../integration/lib.sh"
 scanbus=$1
 config=$2
-work=$(mktemp -d)
-pids=()
-cleanup() {
-  for pid in "${pids[@]}"; do kill -9 "$pid" 2> /dev/null; done
-  wait 2> /dev/null
-  rm -rf "$work"
-}
-trap cleanup EXIT
-failures=0
-fail() { echo "FAIL $*"; failures=$((failures + 1)); }
+with_work KILL
 
 # wait_lines FILE N SECONDS: FILE holds at least N lines within SECONDS.
 wait_lines() {

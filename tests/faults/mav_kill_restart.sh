@@ -10,18 +10,10 @@
 # No other service dies or stops working because one did; none logs a crash.
 #   mav_kill_restart.sh SCANBUS CONFIG
 set -uo pipefail
+source "$(dirname "$0")/../integration/lib.sh"
 scanbus=$1
 config=$2
-work=$(mktemp -d)
-pids=()
-cleanup() {
-  for pid in "${pids[@]}"; do kill -9 "$pid" 2> /dev/null; done
-  wait 2> /dev/null
-  rm -rf "$work"
-}
-trap cleanup EXIT
-failures=0
-fail() { echo "FAIL $*"; failures=$((failures + 1)); }
+with_work KILL
 lines() { wc -l < "$1" 2> /dev/null || echo 0; }
 # grows FILE BY SECONDS: FILE gains BY lines within SECONDS.
 grows() {

@@ -10,18 +10,10 @@
 # height by metres), 0.5 m while the laser is blind (the barometer alone), 0.2 m elsewhere.
 #   sensor_faults.sh SCANBUS CONFIG
 set -uo pipefail
+source "$(dirname "$0")/../integration/lib.sh"
 scanbus=$1
 config=$2
-work=$(mktemp -d)
-pids=()
-cleanup() {
-  for pid in "${pids[@]}"; do kill -TERM "$pid" 2> /dev/null; done
-  wait 2> /dev/null
-  rm -rf "$work"
-}
-trap cleanup EXIT
-failures=0
-fail() { echo "FAIL $*"; failures=$((failures + 1)); }
+with_work
 
 "$scanbus" sim mav --scenario 1 --duration 40 --out "$work/clean.mavlog" > /dev/null || exit 1
 python3 - "$work/clean.mavlog" "$work/flight.mavlog" <<'PY'

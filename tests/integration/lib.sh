@@ -41,3 +41,14 @@ expect_error() {
     failures=$((failures + 1))
   fi
 }
+
+# with_work [SIGNAL]: a temporary directory $work, removed at exit after every pid in $pids
+# got SIGNAL (TERM by default) and ended; $failures counted by fail().
+with_work() {
+  work=$(mktemp -d)
+  pids=()
+  failures=0
+  stop_signal=${1:-TERM}
+  trap 'for pid in "${pids[@]}"; do kill -"$stop_signal" "$pid" 2> /dev/null; done; wait 2> /dev/null; rm -rf "$work"' EXIT
+}
+fail() { echo "FAIL $*"; failures=$((failures + 1)); }

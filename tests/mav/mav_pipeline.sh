@@ -18,16 +18,7 @@ scanbus=$1
 config=$2
 sample=${3:-}
 rate=${MAV_REPLAY_RATE:-4}
-work=$(mktemp -d)
-pids=()
-cleanup() {
-  for pid in "${pids[@]}"; do kill -TERM "$pid" 2> /dev/null; done
-  wait 2> /dev/null
-  rm -rf "$work"
-}
-trap cleanup EXIT
-failures=0
-fail() { echo "FAIL $*"; failures=$((failures + 1)); }
+with_work
 
 flight=${sample:-$work/flight.mavlog}
 [ -n "$sample" ] || "$scanbus" sim mav --scenario 4 --duration 180 --out "$flight" || exit 1
