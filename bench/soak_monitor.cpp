@@ -51,6 +51,7 @@ class LatencyProbe {
   void pose(double stamp) { record(stamp, pose_ms_, poses_); }
   void cloud(double stamp, uint32_t points) {
     record(stamp, cloud_ms_, clouds_);
+    std::lock_guard<std::mutex> lock(mutex_);
     map_points_ = points;
   }
 

@@ -26,4 +26,4 @@ cd build-sanitize
 # integration.mav_pipeline_over_dds (tests/mav/mav_pipeline.sh, which the
 # integration.mav_sample_* tests run on recorded flights).
 ctest --output-on-failure -j2 --timeout 1200 \
-  -E '^(deploy\.compose|accuracy\.mav_scenarios|integration\.mav_pipeline_over_dds)$' "$@"
+  -E '^(deploy\.compose_simulator|accuracy\.mav_scenarios|integration\.mav_pipeline_over_dds)$' "$@"

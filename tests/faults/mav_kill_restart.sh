@@ -51,7 +51,7 @@ restart() {  # restart SERVICE: SIGKILL, 1 s, start again
   start "$1"
 }
 others_alive() {
-  for service in scan_matcher pose_estimation cloud_assembly sensor_replay; do
+  for service in scan_matcher pose_estimation cloud_assembly; do  # (sensor_replay ends with its log)
     [ "$service" = "$1" ] && continue
     kill -0 "${pid_of[$service]}" 2> /dev/null || fail "$service died after $1 was killed"
   done

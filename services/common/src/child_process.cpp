@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
@@ -68,9 +69,13 @@ void ChildProcess::expect_running() {
 
 std::optional<int> ChildProcess::exited() {
   int status = 0;
-  if (pid_ > 0 && waitpid(pid_, &status, WNOHANG) == pid_) {
+  const pid_t waited = pid_ > 0 ? waitpid(pid_, &status, WNOHANG) : 0;
+  if (waited == pid_ && pid_ > 0) {
     pid_ = 0;
     exit_status_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  } else if (waited < 0 && errno == ECHILD) {
+    pid_ = 0;  // reaped elsewhere: gone, its status unknown
+    exit_status_ = -1;
   }
   return pid_ == 0 ? std::optional<int>(exit_status_) : std::nullopt;
 }

@@ -1,7 +1,7 @@
 // A recording in progress: a raw reader per topic (catalogue QoS, KEEP_ALL unless the
 // config's qos section says otherwise) feeding a bounded queue that one thread writes to
 // an MCAP file (ros2 profile, cdr messages, ros2msg schemas). A full queue blocks the DDS
-// listener instead of dropping, so reliable writers are slowed, never lose samples.
+// listener instead of dropping, so reliable KEEP_ALL writers are slowed, never lose samples.
 // Samples that never reached the recorder (a best-effort writer outrunning it, a KEEP_LAST
 // queue overflowing) show as gaps in their writer's sequence numbers: counted as lost.
 #pragma once

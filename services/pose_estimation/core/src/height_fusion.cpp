@@ -71,10 +71,11 @@ double HeightFusion::add_node(double stamp, std::optional<double> change, std::o
     residuals_.push_back({{nodes_.back().second, height}, {-1, 1}, *change, settings_.change_sigma,
                           settings_.change_loss / settings_.change_sigma});
   } else if (!first) {
-    // No change measured (a failed match, a blind laser): the height still moves no faster
-    // than the vehicle climbs, which keeps it from following each barometer sample's noise.
+    // No change measured (a failed match, a blind laser): the height wanders as a random
+    // walk between the nodes (whatever their rate), so it does not follow each barometer
+    // sample's noise.
     const double dt = stamp - nodes_.back().first;
-    residuals_.push_back({{nodes_.back().second, height}, {-1, 1}, 0.0, std::max(settings_.max_climb_rate * dt, 1e-3)});
+    residuals_.push_back({{nodes_.back().second, height}, {-1, 1}, 0.0, std::max(settings_.height_walk * std::sqrt(dt), 1e-3)});
   }
   nodes_.emplace_back(stamp, height);
   if (clearance) add_clearance(stamp, height, *clearance);
@@ -142,7 +143,9 @@ void HeightFusion::add_sample_residual(const Sample& sample) {
   interpolate(biases_);
   double estimate = 0;
   for (size_t i = 0; i < residual.states.size(); ++i) estimate += residual.coefficients[i] * states_.at(residual.states[i]);
-  if (std::abs(sample.value - estimate) <= 5 * sample.sigma) {
+  // 5 sigma of the sample and of the estimate: a height uncertain for want of changes (a
+  // blind laser) widens the gate rather than shutting the barometer out.
+  if (std::abs(sample.value - estimate) <= 5 * std::hypot(sample.sigma, height_sigma_)) {
     barometer_off_since_.reset();
   } else {
     ++barometer_outliers_;

@@ -38,7 +38,7 @@ PoseEstimatorSettings pose_estimator_settings_from_config(const Config& section)
   f.change_loss = fusion.number("change_loss", f.change_loss, 1e-6, 10);
   f.change_gate = fusion.number("change_gate", f.change_gate, 1e-6, 100);
   f.gate_memory = fusion.number("gate_memory", f.gate_memory, 0, 600);
-  f.max_climb_rate = fusion.number("max_climb_rate", f.max_climb_rate, 1e-3, 100);
+  f.height_walk = fusion.number("height_walk", f.height_walk, 1e-3, 100);
   f.solve_every = static_cast<int>(fusion.integer("solve_every", f.solve_every, 1, 1000));
   f.clearance_sigma = fusion.number("clearance_sigma", f.clearance_sigma, 1e-5, 10);
   f.clearance_loss = fusion.number("clearance_loss", f.clearance_loss, 1e-6, 100);

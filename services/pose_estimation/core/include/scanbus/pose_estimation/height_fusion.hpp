@@ -32,7 +32,8 @@ namespace scanbus::pose_estimation {
 struct FusionSettings {
   double window = 3.0;              // s of nodes kept in the problem
   double baro_sigma = 0.3;          // m, white noise of one barometer altitude
-  double baro_gate_time = 10.0;     // s: a barometer altitude 5 sigma off the estimate (a gust,
+  double baro_gate_time = 10.0;     // s: a barometer altitude 5 sigma (its own and the
+                                    // estimate's) off the estimate (a gust,
                                     // a door, a fault) is counted and left out, unless the
                                     // barometer has been that far off for this long: a shift
                                     // that persists is believed (the only absolute height)
@@ -46,7 +47,7 @@ struct FusionSettings {
                                     // velocity jump of 1.5 m/s between scans at 30 Hz) is a
                                     // failed match, left out before it can pull the window into
                                     // a wrong minimum of the robust loss
-  double max_climb_rate = 1.0;      // m/s, one sigma: between nodes without a change
+  double height_walk = 0.2;         // m/sqrt(s): the height's random walk between nodes without a change
   double gate_memory = 0.5;         // s: after this long without an accepted change, any is accepted
   int solve_every = 3;              // nodes between solves (the newest node is propagated in between)
   double clearance_sigma = 0.01;    // m, one ground clearance (line fit, attitude, rough ground)
