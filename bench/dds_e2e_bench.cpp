@@ -391,7 +391,7 @@ int main(int argc, char** argv) {
     const bool known_mode = args.size() >= 2 && (args[1] == "scanbus" || args[1] == "raw" || args[1] == "convert");
     if (args.size() >= 2 && args[0] != "relay" && !known_mode) return usage();
     if (args.size() == 3 && args[0] == "latency" && args[1] == "convert") return usage();
-    if (args.size() == 3 && args[0] == "latency") return latency(args[1], std::stoi(args[2]));
+    if (args.size() == 3 && args[0] == "latency" && std::stoi(args[2]) > 0) return latency(args[1], std::stoi(args[2]));
     if (args.size() == 4 && args[0] == "throughput")
       return throughput(args[1], static_cast<uint32_t>(std::stoul(args[2])), std::stod(args[3]));
     if (args.size() == 3 && args[0] == "relay") return relay(args[1], static_cast<uint32_t>(std::stoul(args[2])));
