@@ -35,6 +35,9 @@ int echo(Participant& participant, const EchoOptions& options, const QosSettings
   while (!StopSignal::wait_for(std::chrono::milliseconds(50))) {
     if (options.timeout > 0 && std::chrono::steady_clock::now() > deadline) break;
   }
+  if (const uint64_t lost = participant.lost())
+    std::cerr << "scanbus echo: " << options.topic << ": " << lost
+              << " samples lost before reaching echo (gaps in the writers' sequence numbers)\n";
   if (options.count > 0 && received < options.count) {
     std::cerr << "scanbus echo: " << options.topic << ": received " << received << " of " << options.count
               << " samples before the timeout\n";

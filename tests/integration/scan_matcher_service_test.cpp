@@ -101,3 +101,65 @@ TEST(ScanMatcherService, TracksAKnownFlightAndRejectsABadScan) {
   EXPECT_GT(last.covariance()[0], 0);
   EXPECT_GT(last.correspondences(), 100u);
 }
+
+// A burst faster than scan_matcher matches: its sensor reader (the catalogue's best effort,
+// KEEP_LAST 10) drops scans, and every one of them is counted in Health (samples_lost, with
+// the topic named), never silent: matched + failed + lost = written.
+TEST(ScanMatcherService, CountsTheScansABurstLost) {
+  setenv("SCANBUS_DOMAIN_ID", "85", 1);
+  char dir[] = "/tmp/scanbus_scan_matcher_XXXXXX";
+  const std::string work = mkdtemp(dir);
+  ChildProcess service(SCANBUS_CLI, {"run", "scan_matcher"}, work + "/matcher.log");
+
+  Participant participant(DdsSettings{"", "localhost", 85}, "scanbus/test_scan_burst");
+  Writer<sensor_msgs::msg::LaserScanPubSubType> scans(participant, "rt/scan");
+  std::mutex mutex;
+  uint64_t processed = 0, lost = 0;
+  std::string last_error;
+  Reader<scanbus::msg::HealthPubSubType> health(participant, "rt/scanbus/health", [&](const auto& h, const auto&) {
+    if (h.service() != "scan_matcher") return;
+    std::lock_guard<std::mutex> lock(mutex);
+    processed = lost = 0;
+    for (const auto& counter : h.counters()) {
+      if (counter.name() == "scans_matched" || counter.name() == "matches_failed") processed += counter.value();
+      if (counter.name() == "samples_lost") lost = counter.value();
+    }
+    last_error = h.last_error();
+  });
+  ASSERT_TRUE(scans.wait_for_readers(1, 20s));
+  for (int i = 0; i < 200 && health.matched_writers() == 0; ++i) std::this_thread::sleep_for(100ms);
+
+  const auto room = test_support::LaserWorld::room();
+  std::mt19937 random(7);
+  test_support::LaserModel laser;
+  laser.rays = 1081;
+  laser.angle_increment = M_PI / 1080;
+  const Pose2 pose{-1.5, -0.5, 0.2};
+  uint64_t written = 0;
+  auto write_scan = [&] { ASSERT_TRUE(scans.write(laser_scan(room.scan(pose, laser, random), 100.0 + 0.01 * written++))); };
+  const auto burst = laser_scan(room.scan(pose, laser, random), 0);
+  for (int i = 0; i < 2000; ++i) {
+    auto scan = burst;
+    scan.header().stamp(to_stamp(100.0 + 0.01 * written++));
+    ASSERT_TRUE(scans.write(scan));
+  }
+  // A gap after the last scan that arrives cannot be seen: single scans, which the matcher
+  // keeps up with, close the count.
+  bool balanced = false;
+  for (int closing = 0; closing < 10 && !balanced; ++closing) {
+    write_scan();
+    const auto deadline = std::chrono::steady_clock::now() + 3s;
+    while (!balanced && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(100ms);
+      std::lock_guard<std::mutex> lock(mutex);
+      balanced = processed + lost == written;
+    }
+  }
+  std::lock_guard<std::mutex> lock(mutex);
+  std::printf("%lu scans matched or failed, %lu lost, of %lu written\n", static_cast<unsigned long>(processed),
+              static_cast<unsigned long>(lost), static_cast<unsigned long>(written));
+  EXPECT_TRUE(balanced) << processed << " matched or failed + " << lost << " lost, of " << written << " written";
+  EXPECT_GT(lost, 0u) << "the burst outran the matcher";
+  EXPECT_GT(processed, 0u);
+  EXPECT_NE(last_error.find("samples lost before reaching scan_matcher (rt/scan "), std::string::npos) << last_error;
+}

@@ -47,6 +47,7 @@ fi
 echo "replay of ${flight##*/} at ${rate}x took $(( $(date +%s) - started )) s"
 sleep 2  # the last poses and the last cloud
 kill -INT "$echo_pid" "$truth_pid"; wait "$echo_pid" "$truth_pid"
+grep -h "samples lost" "$work"/*.log | tail -5  # where poses went missing, if any did
 "$scanbus" cloud save --out "$work/assembled.pcd" --timeout 10 || fail "no rt/cloud/assembled"
 "$scanbus" cloud save --window 1700000000,1700000180 --out "$work/window.pcd" --timeout 10 || fail "no assemble reply"
 "$scanbus" eval boxes "$work/window.pcd" --truth 0.4,0.6 --json > "$work/boxes_window.json"

@@ -2,6 +2,7 @@
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <set>
 #include <typeinfo>
@@ -94,6 +95,30 @@ void Participant::set_qos_overrides(const Config& qos_section) {
     if (!info) throw ConfigError(qos_section.origin() + ": key '" + qos_section.path_of(name) + "' names an unknown topic");
     qos_overrides_[name] = qos_from_config(qos_section, *info);
   }
+}
+
+void Participant::count_lost(const std::string& topic, uint64_t samples) {
+  std::lock_guard<std::mutex> lock(lost_mutex_);
+  lost_by_topic_[topic] += samples;
+}
+
+std::map<std::string, uint64_t> Participant::lost_by_topic() const {
+  std::lock_guard<std::mutex> lock(lost_mutex_);
+  return lost_by_topic_;
+}
+
+uint64_t Participant::lost() const {
+  uint64_t total = 0;
+  for (const auto& [topic, samples] : lost_by_topic()) total += samples;
+  return total;
+}
+
+uint64_t SequenceGaps::add(const dds::SampleInfo& info) {
+  const int64_t sequence = info.sample_identity.sequence_number().to64long();
+  const auto [last, first] = last_.try_emplace(info.sample_identity.writer_guid(), sequence);
+  const uint64_t gap = !first && sequence > last->second + 1 ? static_cast<uint64_t>(sequence - last->second - 1) : 0;
+  last->second = std::max(last->second, sequence);
+  return gap;
 }
 
 QosSettings Participant::qos(const std::string& topic_name) const {

@@ -50,8 +50,10 @@ bool StopSignal::wait_for(std::chrono::milliseconds timeout) {
   return stop_changed.wait_for(lock, timeout, [] { return stop_requested.load(); });
 }
 
-HealthReporter::HealthReporter(Participant& participant, std::string service, std::chrono::milliseconds period)
-    : writer_(participant, "rt/scanbus/health"), service_(std::move(service)), period_(period),
+HealthReporter::HealthReporter(Participant& participant, std::string service, std::chrono::milliseconds period,
+                               std::shared_ptr<spdlog::logger> log)
+    : participant_(participant), log_(std::move(log)), writer_(participant, "rt/scanbus/health"),
+      service_(std::move(service)), period_(period),
       state_(scanbus::msg::Health_Constants::STARTING) {
   thread_ = std::thread([this] { loop(); });
 }
@@ -69,6 +71,10 @@ HealthReporter::~HealthReporter() {
 
 std::atomic<uint64_t>& HealthReporter::counter(const std::string& name) {
   std::lock_guard<std::mutex> lock(mutex_);
+  return find_counter(name);
+}
+
+std::atomic<uint64_t>& HealthReporter::find_counter(const std::string& name) {
   for (auto& entry : counters_)
     if (entry.first == name) return entry.second;
   counters_.emplace_back(std::piecewise_construct, std::forward_as_tuple(name), std::forward_as_tuple(0));
@@ -93,10 +99,27 @@ void HealthReporter::error(const std::string& message) {
   publish_now();
 }
 
+void HealthReporter::note_losses() {
+  const auto lost_by_topic = participant_.lost_by_topic();
+  uint64_t lost = 0;
+  std::string topics;
+  for (const auto& [topic, samples] : lost_by_topic) {
+    lost += samples;
+    topics += (topics.empty() ? "" : ", ") + topic + " " + std::to_string(samples);
+  }
+  if (lost <= reported_lost_) return;
+  reported_lost_ = lost;
+  find_counter("samples_lost") = lost;
+  last_error_ = std::to_string(lost) + " samples lost before reaching " + service_ + " (" + topics + ")";
+  if (state_ == scanbus::msg::Health_Constants::OK) state_ = scanbus::msg::Health_Constants::DEGRADED;
+  log_->warn("{}", last_error_);
+}
+
 void HealthReporter::publish_now() {
   scanbus::msg::Health sample;
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    note_losses();
     sample.header().stamp(now_stamp());
     sample.service(service_);
     char host[256] = {};
@@ -148,7 +171,7 @@ int run_service(const std::string& name, const std::string& config_path, const S
     const DdsSettings dds = dds_settings_from_config(config.section("dds"));
     Participant participant(dds, "scanbus/" + name);
     participant.set_qos_overrides(config.section("qos"));
-    HealthReporter health(participant, name, period);
+    HealthReporter health(participant, name, period, log);
     ServiceContext context{name, config, participant, health, log};
     std::unique_ptr<Service> instance = factory(context);
     config.check_all_read();

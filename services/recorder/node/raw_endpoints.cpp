@@ -35,20 +35,6 @@ std::function<uint32_t()> RawType::getSerializedSizeProvider(void* data) {
   return [data] { return static_cast<uint32_t>(static_cast<RawSample*>(data)->size()); };
 }
 
-RawReader::RawReader(Participant& participant, const std::string& topic, const std::string& type_name,
-                     const QosSettings& qos, Handler handler)
-    : participant_(participant), handler_(std::move(handler)),
-      reader_(create_reader(participant, topic, new RawType(type_name), qos, this)) {}
-
-RawReader::~RawReader() { delete_reader(participant_, reader_); }
-
-void RawReader::on_data_available(dds::DataReader* reader) {
-  dds::SampleInfo info;
-  while (reader->take_next_sample(&sample_, &info) == ReturnCode_t::RETCODE_OK) {
-    if (info.valid_data) handler_(sample_, info);
-  }
-}
-
 RawWriter::RawWriter(Participant& participant, const std::string& topic, const std::string& type_name,
                      const dds::DataWriterQos& qos)
     : participant_(participant), topic_(topic) {

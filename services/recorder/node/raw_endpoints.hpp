@@ -19,6 +19,7 @@ using RawSample = std::vector<uint8_t>;
 
 class RawType : public eprosima::fastdds::dds::TopicDataType {
  public:
+  using type = RawSample;
   explicit RawType(const std::string& type_name);
   bool serialize(void* data, eprosima::fastrtps::rtps::SerializedPayload_t* payload) override;
   bool deserialize(eprosima::fastrtps::rtps::SerializedPayload_t* payload, void* data) override;
@@ -28,21 +29,12 @@ class RawType : public eprosima::fastdds::dds::TopicDataType {
   bool getKey(void*, eprosima::fastrtps::rtps::InstanceHandle_t*, bool) override { return false; }
 };
 
-class RawReader : private eprosima::fastdds::dds::DataReaderListener {
+// A Reader of raw bytes under the given registered type name.
+class RawReader : public Reader<RawType> {
  public:
-  using Handler = std::function<void(const RawSample&, const eprosima::fastdds::dds::SampleInfo&)>;
   RawReader(Participant& participant, const std::string& topic, const std::string& type_name, const QosSettings& qos,
-            Handler handler);
-  ~RawReader();
-  RawReader(const RawReader&) = delete;
-  RawReader& operator=(const RawReader&) = delete;
-
- private:
-  void on_data_available(eprosima::fastdds::dds::DataReader* reader) override;
-  Participant& participant_;
-  Handler handler_;
-  RawSample sample_;
-  eprosima::fastdds::dds::DataReader* reader_;
+            Handler handler)
+      : Reader<RawType>(participant, topic, new RawType(type_name), qos, std::move(handler)) {}
 };
 
 class RawWriter {

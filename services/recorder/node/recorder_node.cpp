@@ -26,7 +26,9 @@ class RecorderService : public Service {
       bytes = recording.bytes();
       if (const uint64_t now_lost = recording.lost(); now_lost > lost) {
         lost = now_lost;
-        context_.health.error(std::to_string(now_lost) + " samples lost before reaching the recorder");
+        const std::string message = std::to_string(now_lost) + " samples lost before reaching the recorder";
+        context_.health.error(message);
+        context_.log->warn("{}", message);
       }
       if (const std::string failure = recording.failure(); !failure.empty()) {
         context_.health.error(failure);  // FAILED would need a restart anyway: exit and say why

@@ -43,7 +43,7 @@ RecorderSettings recorder_settings_from_config(const Config& section) {
 }
 
 Recording::Recording(Participant& participant, const RecorderSettings& settings, std::shared_ptr<spdlog::logger> log)
-    : settings_(settings), log_(std::move(log)), writer_(settings.out, settings.writer) {
+    : participant_(participant), settings_(settings), log_(std::move(log)), writer_(settings.out, settings.writer) {
   std::vector<std::string> topics;
   for (const auto& name : settings.topics) topics.push_back(catalogue_topic(name));
   if (topics.empty())
@@ -81,7 +81,6 @@ Recording::~Recording() {
 void Recording::enqueue(uint16_t channel, const RawSample& sample, const eprosima::fastdds::dds::SampleInfo& info) {
   const uint64_t received = now_ns();
   std::unique_lock<std::mutex> lock(mutex_);
-  count_lost(channel, info);
   // Back-pressure: a reliable writer waits for us rather than a sample being dropped.
   changed_.wait(lock, [&] { return queued_bytes_ < settings_.queue_bytes || stopping_ || !failure_.empty(); });
   if (!failure_.empty()) return;
@@ -90,19 +89,6 @@ void Recording::enqueue(uint16_t channel, const RawSample& sample, const eprosim
                     published, sample});
   queued_bytes_ += sample.size();
   changed_.notify_all();
-}
-
-void Recording::count_lost(uint16_t channel, const eprosima::fastdds::dds::SampleInfo& info) {
-  const int64_t sequence = info.sample_identity.sequence_number().to64long();
-  const auto [last, first] = last_sequence_.try_emplace(info.sample_identity.writer_guid(), sequence);
-  // A writer's first sample may come after others we never subscribed to: not a loss.
-  if (!first && sequence > last->second + 1) {
-    const uint64_t gap = static_cast<uint64_t>(sequence - last->second - 1);
-    const std::string& topic = topic_of_channel_.at(channel);
-    if (lost_by_topic_[topic] == 0) log_->warn("{}: samples lost before reaching the recorder (counted)", topic);
-    lost_by_topic_[topic] += gap;
-  }
-  last->second = std::max(last->second, sequence);
 }
 
 void Recording::write_loop() {
@@ -179,15 +165,8 @@ std::map<std::string, uint64_t> Recording::counts_by_topic() const {
   return written_by_topic_;
 }
 
-std::map<std::string, uint64_t> Recording::lost_by_topic() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return lost_by_topic_;
-}
+std::map<std::string, uint64_t> Recording::lost_by_topic() const { return participant_.lost_by_topic(); }
 
-uint64_t Recording::lost() const {
-  uint64_t lost = 0;
-  for (const auto& [topic, count] : lost_by_topic()) lost += count;
-  return lost;
-}
+uint64_t Recording::lost() const { return participant_.lost(); }
 
 }  // namespace scanbus::recorder

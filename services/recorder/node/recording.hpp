@@ -51,7 +51,8 @@ class Recording {
   uint64_t messages() const;
   uint64_t bytes() const;
   std::map<std::string, uint64_t> counts_by_topic() const;
-  // Samples lost before reaching the recorder, by topic (topics without loss absent).
+  // Samples lost before reaching the recorder, by topic (topics without loss absent): the
+  // participant's count, so give the recording a participant of its own.
   std::map<std::string, uint64_t> lost_by_topic() const;
   uint64_t lost() const;
 
@@ -63,9 +64,9 @@ class Recording {
     RawSample data;
   };
   void enqueue(uint16_t channel, const RawSample& sample, const eprosima::fastdds::dds::SampleInfo& info);
-  void count_lost(uint16_t channel, const eprosima::fastdds::dds::SampleInfo& info);  // mutex_ held
   void write_loop();
 
+  Participant& participant_;  // counts what its readers lost
   RecorderSettings settings_;
   std::shared_ptr<spdlog::logger> log_;
   McapWriter writer_;
@@ -77,8 +78,6 @@ class Recording {
   bool stopping_ = false;
   uint64_t written_bytes_ = 0;
   std::map<std::string, uint64_t> written_by_topic_;
-  std::map<eprosima::fastrtps::rtps::GUID_t, int64_t> last_sequence_;  // by writer
-  std::map<std::string, uint64_t> lost_by_topic_;
   std::string failure_;  // the writer thread's error, reported by stop()
   std::vector<std::unique_ptr<RawReader>> readers_;
   std::thread thread_;

@@ -12,6 +12,7 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
 #include <chrono>
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
@@ -34,6 +35,19 @@ struct DdsSettings {
   std::string profile_file;  // Fast DDS XML profiles; empty: the built-in loopback profile
   std::string profile = "localhost";
   int domain = 0;
+};
+
+// Samples a reader never got (dropped on the way, or overwritten in a KEEP_LAST history
+// before they were taken), from gaps in each writer's sequence numbers. A writer's first
+// sample starts its count: what it wrote before the reader matched is not a loss, and a
+// gap after the last sample that arrives cannot be seen.
+class SequenceGaps {
+ public:
+  // How many of this sample's writer's samples are missing just before it.
+  uint64_t add(const eprosima::fastdds::dds::SampleInfo& info);
+
+ private:
+  std::map<eprosima::fastrtps::rtps::GUID_t, int64_t> last_;  // by writer
 };
 
 // The loopback-only Fast DDS profile compiled into every binary (config/dds/localhost.xml).
@@ -59,6 +73,10 @@ class Participant {
   QosSettings qos(const std::string& topic_name) const;
   void set_qos_overrides(const Config& qos_section);
   bool has_qos_override(const std::string& topic_name) const { return qos_overrides_.count(topic_name) > 0; }
+  // Samples this participant's readers lost (SequenceGaps), by topic; the readers count.
+  void count_lost(const std::string& topic, uint64_t samples);
+  std::map<std::string, uint64_t> lost_by_topic() const;
+  uint64_t lost() const;
 
  private:
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
@@ -67,6 +85,8 @@ class Participant {
   std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
   std::map<std::string, QosSettings> qos_overrides_;
   std::mutex mutex_;
+  mutable std::mutex lost_mutex_;
+  std::map<std::string, uint64_t> lost_by_topic_;
 };
 
 eprosima::fastdds::dds::DataWriterQos writer_qos(const QosSettings& qos);
@@ -136,7 +156,8 @@ class Writer {
   eprosima::fastdds::dds::DataWriter* writer_;
 };
 
-// Calls a handler for each valid sample, on Fast DDS's listener thread.
+// Calls a handler for each valid sample, on Fast DDS's listener thread; samples that never
+// came are counted in the participant (Participant::lost_by_topic).
 template <class PubSubType>
 class Reader : private eprosima::fastdds::dds::DataReaderListener {
  public:
@@ -146,8 +167,12 @@ class Reader : private eprosima::fastdds::dds::DataReaderListener {
   Reader(Participant& participant, const std::string& topic, Handler handler)
       : Reader(participant, topic, participant.qos(topic), std::move(handler)) {}
   Reader(Participant& participant, const std::string& topic, const QosSettings& qos, Handler handler)
-      : participant_(participant), handler_(std::move(handler)),
-        reader_(create_reader(participant, topic, new PubSubType(), qos, this)) {}
+      : Reader(participant, topic, new PubSubType(), qos, std::move(handler)) {}
+  // With a type object of its own (owned from here on): the recorder's raw bytes under any name.
+  Reader(Participant& participant, const std::string& topic, eprosima::fastdds::dds::TopicDataType* type,
+         const QosSettings& qos, Handler handler)
+      : participant_(participant), topic_(topic), handler_(std::move(handler)),
+        reader_(create_reader(participant, topic, type, qos, this)) {}
   ~Reader() { delete_reader(participant_, reader_); }
   Reader(const Reader&) = delete;
   Reader& operator=(const Reader&) = delete;
@@ -162,11 +187,15 @@ class Reader : private eprosima::fastdds::dds::DataReaderListener {
   void on_data_available(eprosima::fastdds::dds::DataReader* reader) override {
     eprosima::fastdds::dds::SampleInfo info;
     while (reader->take_next_sample(&sample_, &info) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
-      if (info.valid_data) handler_(sample_, info);
+      if (!info.valid_data) continue;
+      if (const uint64_t lost = gaps_.add(info)) participant_.count_lost(topic_, lost);
+      handler_(sample_, info);
     }
   }
 
   Participant& participant_;
+  std::string topic_;
+  SequenceGaps gaps_;  // only the listener thread touches it
   Handler handler_;
   Sample sample_;  // reused: large clouds are not reallocated per sample
   eprosima::fastdds::dds::DataReader* reader_;

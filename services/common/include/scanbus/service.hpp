@@ -32,10 +32,13 @@ class StopSignal {
   static bool wait_for(std::chrono::milliseconds timeout);
 };
 
-// Publishes a Health sample every period and on every state change.
+// Publishes a Health sample every period and on every state change. Samples the
+// participant's readers lost (Participant::lost_by_topic) show as the counter
+// `samples_lost`, and while it grows the service is DEGRADED with the topics named.
 class HealthReporter {
  public:
-  HealthReporter(Participant& participant, std::string service, std::chrono::milliseconds period);
+  HealthReporter(Participant& participant, std::string service, std::chrono::milliseconds period,
+                 std::shared_ptr<spdlog::logger> log);
   ~HealthReporter();
   HealthReporter(const HealthReporter&) = delete;
   HealthReporter& operator=(const HealthReporter&) = delete;
@@ -49,7 +52,11 @@ class HealthReporter {
 
  private:
   void loop();
+  std::atomic<uint64_t>& find_counter(const std::string& name);  // mutex_ held
+  void note_losses();                                            // mutex_ held
 
+  Participant& participant_;
+  std::shared_ptr<spdlog::logger> log_;
   Writer<scanbus::msg::HealthPubSubType> writer_;
   std::string service_;
   std::chrono::milliseconds period_;
@@ -59,6 +66,7 @@ class HealthReporter {
   bool stopping_ = false;
   uint8_t state_;
   std::string last_error_;
+  uint64_t reported_lost_ = 0;
   std::deque<std::pair<std::string, std::atomic<uint64_t>>> counters_;
   std::thread thread_;
 };
