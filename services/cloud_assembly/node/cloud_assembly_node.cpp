@@ -100,12 +100,12 @@ class CloudAssembly : public Service {
 
   int run() override {
     const auto period = std::chrono::milliseconds(static_cast<long>(settings_.publish_period * 1000));
-    while (!StopSignal::wait_for(period)) publish_if_changed();
+    while (!StopSignal::wait_for(period)) publish_if_grown();
     requests_.reset();  // no callback may outlive what it uses
     scans_.reset();
     tf_.reset();
     tf_static_.reset();
-    publish_if_changed();  // what came in since the last period
+    publish_if_grown();  // what came in since the last period
     assembled_.wait_for_acknowledgments(std::chrono::seconds(2));
     return 0;
   }
@@ -205,13 +205,13 @@ class CloudAssembly : public Service {
     ++health_.counter("requests");
   }
 
-  void publish_if_changed() {
+  void publish_if_grown() {
     std::vector<Eigen::Vector3f> points;
     double stamp;
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      if (continuous_.merged() == published_merged_) return;
-      published_merged_ = continuous_.merged();
+      if (continuous_.size() == published_size_) return;
+      published_size_ = continuous_.size();
       points = continuous_.points();
       stamp = newest_;
       health_.counter("voxels") = continuous_.size();
@@ -230,7 +230,7 @@ class CloudAssembly : public Service {
   ScanWindow window_;
   std::deque<PendingScan> pending_;
   double newest_ = 0;
-  uint64_t published_merged_ = 0;
+  size_t published_size_ = 0;
   Writer<sensor_msgs::msg::PointCloud2PubSubType> assembled_;
   Writer<scanbus::msg::AssembleReplyPubSubType> replies_;
   std::unique_ptr<Reader<tf2_msgs::msg::TFMessagePubSubType>> tf_static_, tf_;

@@ -5,6 +5,7 @@
 #include <spdlog/sinks/stdout_sinks.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <iostream>
 
 #include "scanbus/clock.hpp"
@@ -52,7 +53,7 @@ bool StopSignal::wait_for(std::chrono::milliseconds timeout) {
 
 HealthReporter::HealthReporter(Participant& participant, std::string service, std::chrono::milliseconds period,
                                std::shared_ptr<spdlog::logger> log)
-    : participant_(participant), log_(std::move(log)), writer_(participant, "rt/scanbus/health"),
+    : watched_{&participant}, log_(std::move(log)), writer_(participant, "rt/scanbus/health"),
       service_(std::move(service)), period_(period),
       state_(scanbus::msg::Health_Constants::STARTING) {
   thread_ = std::thread([this] { loop(); });
@@ -99,27 +100,39 @@ void HealthReporter::error(const std::string& message) {
   publish_now();
 }
 
-void HealthReporter::note_losses() {
-  const auto lost_by_topic = participant_.lost_by_topic();
+void HealthReporter::watch_losses(const Participant& participant) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  watched_.push_back(&participant);
+}
+
+void HealthReporter::unwatch_losses(const Participant& participant) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  watched_.erase(std::remove(watched_.begin(), watched_.end(), &participant), watched_.end());
+}
+
+std::string HealthReporter::note_losses() {
   uint64_t lost = 0;
   std::string topics;
-  for (const auto& [topic, samples] : lost_by_topic) {
-    lost += samples;
-    topics += (topics.empty() ? "" : ", ") + topic + " " + std::to_string(samples);
-  }
-  if (lost <= reported_lost_) return;
+  for (const Participant* participant : watched_)
+    for (const auto& [topic, samples] : participant->lost_by_topic()) {
+      lost += samples;
+      topics += (topics.empty() ? "" : ", ") + topic + " " + std::to_string(samples);
+    }
+  if (lost <= reported_lost_) return "";
   reported_lost_ = lost;
   find_counter("samples_lost") = lost;
-  last_error_ = std::to_string(lost) + " samples lost before reaching " + service_ + " (" + topics + ")";
-  if (state_ == scanbus::msg::Health_Constants::OK) state_ = scanbus::msg::Health_Constants::DEGRADED;
-  log_->warn("{}", last_error_);
+  const auto now = std::chrono::steady_clock::now();
+  if (now - loss_logged_ < std::chrono::seconds(5)) return "";
+  loss_logged_ = now;
+  return std::to_string(lost) + " samples lost before reaching " + service_ + " (" + topics + ")";
 }
 
 void HealthReporter::publish_now() {
   scanbus::msg::Health sample;
+  std::string loss_message;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    note_losses();
+    loss_message = note_losses();
     sample.header().stamp(now_stamp());
     sample.service(service_);
     char host[256] = {};
@@ -137,6 +150,7 @@ void HealthReporter::publish_now() {
     sample.last_error(last_error_);
   }
   writer_.write(sample);
+  if (!loss_message.empty()) log_->warn("{}", loss_message);
 }
 
 void HealthReporter::loop() {

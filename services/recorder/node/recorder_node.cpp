@@ -6,6 +6,21 @@ namespace scanbus::recorder {
 
 namespace {
 
+// Health counts the raw participant's losses while it lives.
+class LossWatch {
+ public:
+  LossWatch(HealthReporter& health, const Participant& participant) : health_(health), participant_(participant) {
+    health_.watch_losses(participant_);
+  }
+  ~LossWatch() { health_.unwatch_losses(participant_); }
+  LossWatch(const LossWatch&) = delete;
+  LossWatch& operator=(const LossWatch&) = delete;
+
+ private:
+  HealthReporter& health_;
+  const Participant& participant_;
+};
+
 class RecorderService : public Service {
  public:
   RecorderService(ServiceContext& context, RecorderSettings settings)
@@ -16,20 +31,14 @@ class RecorderService : public Service {
     // among them) that the service's participant already holds with generated code.
     Participant raw(dds_settings_from_config(context_.config.section("dds")), "scanbus/recorder/raw");
     raw.set_qos_overrides(context_.config.section("qos"));
+    LossWatch losses(context_.health, raw);
     // The file is created here, not in the factory, so --check-config writes nothing.
     Recording recording(raw, settings_, context_.log);
     auto& messages = context_.health.counter("messages_recorded");
     auto& bytes = context_.health.counter("bytes_recorded");
-    auto& lost = context_.health.counter("samples_lost");
     while (!StopSignal::wait_for(std::chrono::milliseconds(200))) {
       messages = recording.messages();
       bytes = recording.bytes();
-      if (const uint64_t now_lost = recording.lost(); now_lost > lost) {
-        lost = now_lost;
-        const std::string message = std::to_string(now_lost) + " samples lost before reaching the recorder";
-        context_.health.error(message);
-        context_.log->warn("{}", message);
-      }
       if (const std::string failure = recording.failure(); !failure.empty()) {
         context_.health.error(failure);  // FAILED would need a restart anyway: exit and say why
         context_.log->error("recording stopped: {}", failure);
@@ -38,6 +47,7 @@ class RecorderService : public Service {
     }
     recording.stop();
     messages = recording.messages();
+    context_.health.publish_now();  // the last count of messages and losses
     return 0;
   }
 

@@ -48,7 +48,6 @@ void ContinuousCloud::add(const std::vector<Eigen::Vector3d>& points) {
     }
     found->second.sum += p;
     ++found->second.count;
-    ++merged_;
   }
 }
 

@@ -187,15 +187,16 @@ class Reader : private eprosima::fastdds::dds::DataReaderListener {
   void on_data_available(eprosima::fastdds::dds::DataReader* reader) override {
     eprosima::fastdds::dds::SampleInfo info;
     while (reader->take_next_sample(&sample_, &info) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
-      if (!info.valid_data) continue;
-      if (const uint64_t lost = gaps_.add(info)) participant_.count_lost(topic_, lost);
-      handler_(sample_, info);
+      // A dispose or unregister uses a sequence number too: not a gap.
+      if (info.sample_identity.writer_guid() != eprosima::fastrtps::rtps::GUID_t::unknown())
+        if (const uint64_t lost = gaps_.add(info)) participant_.count_lost(topic_, lost);
+      if (info.valid_data) handler_(sample_, info);
     }
   }
 
   Participant& participant_;
   std::string topic_;
-  SequenceGaps gaps_;  // only the listener thread touches it
+  SequenceGaps gaps_;  // Fast DDS calls one reader's listener one call at a time
   Handler handler_;
   Sample sample_;  // reused: large clouds are not reallocated per sample
   eprosima::fastdds::dds::DataReader* reader_;

@@ -14,6 +14,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "HealthPubSubTypes.h"
 #include "scanbus/config.hpp"
@@ -34,7 +35,8 @@ class StopSignal {
 
 // Publishes a Health sample every period and on every state change. Samples the
 // participant's readers lost (Participant::lost_by_topic) show as the counter
-// `samples_lost`, and while it grows the service is DEGRADED with the topics named.
+// `samples_lost`, with a log warning naming the topics (at most one per 5 s). A loss
+// leaves the state alone: on a best-effort sensor stream it is counted, not a fault.
 class HealthReporter {
  public:
   HealthReporter(Participant& participant, std::string service, std::chrono::milliseconds period,
@@ -49,13 +51,17 @@ class HealthReporter {
   // Records the error, marks the service DEGRADED and publishes at once.
   void error(const std::string& message);
   void publish_now();
+  // Also counts the losses of another participant's readers (the recorder's own) until
+  // unwatch_losses(); the reporter's participant is always counted.
+  void watch_losses(const Participant& participant);
+  void unwatch_losses(const Participant& participant);
 
  private:
   void loop();
   std::atomic<uint64_t>& find_counter(const std::string& name);  // mutex_ held
-  void note_losses();                                            // mutex_ held
+  std::string note_losses();  // mutex_ held; what to log, if anything
 
-  Participant& participant_;
+  std::vector<const Participant*> watched_;  // whose losses are counted
   std::shared_ptr<spdlog::logger> log_;
   Writer<scanbus::msg::HealthPubSubType> writer_;
   std::string service_;
@@ -67,6 +73,7 @@ class HealthReporter {
   uint8_t state_;
   std::string last_error_;
   uint64_t reported_lost_ = 0;
+  std::chrono::steady_clock::time_point loss_logged_;
   std::deque<std::pair<std::string, std::atomic<uint64_t>>> counters_;
   std::thread thread_;
 };

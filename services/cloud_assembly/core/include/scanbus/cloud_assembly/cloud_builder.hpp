@@ -37,8 +37,6 @@ class ContinuousCloud {
   void add(const std::vector<Eigen::Vector3d>& points);
   std::vector<Eigen::Vector3f> points() const;
   size_t size() const { return voxels_.size(); }
-  // Points merged into voxels so far: the cloud changed when this did, even with a full budget.
-  uint64_t merged() const { return merged_; }
   uint64_t dropped() const { return dropped_; }
   double voxel_size() const { return voxel_size_; }
 
@@ -50,7 +48,7 @@ class ContinuousCloud {
   double voxel_size_;
   size_t max_voxels_;
   std::unordered_map<uint64_t, Voxel> voxels_;
-  uint64_t merged_ = 0, dropped_ = 0;
+  uint64_t dropped_ = 0;
 };
 
 // The latest scans (map-frame points by stamp), kept for `max_age` s behind the newest and
