@@ -17,7 +17,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 minutes=${1:-10} period=${2:-30}
 scripts/build.sh > /dev/null
-export SCANBUS_DOMAIN_ID=${SCANBUS_DOMAIN_ID:-80}
+export SCANBUS_DOMAIN_ID=${SCANBUS_DOMAIN_ID:-87}
 scanbus=build/services/cli/scanbus
 work=$(mktemp -d)
 pids=()
