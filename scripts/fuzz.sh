@@ -4,7 +4,9 @@
 # TARGETs named. The corpus grows in build-fuzz/corpus/ across runs; the repository's seeds
 # are read, never written. A crash, a leak or an input running over 10 s fails the run and
 # leaves the input in build-fuzz/findings/TARGET/; fix it and copy the input to
-# tests/fuzz/regressions/TARGET/ (tests/fuzz/README.md). Progress on a terminal only.
+# tests/fuzz/regressions/TARGET/ (tests/fuzz/README.md). A finding's report and its input
+# (base64, up to 64 KiB) are printed, so one found in CI reproduces from the log. Progress
+# on a terminal only.
 #   scripts/fuzz.sh [SECONDS] [TARGET ...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -18,6 +20,7 @@ cmake --build build-fuzz -j2 --target "${targets[@]/%/_fuzz}" > build-fuzz-build
 failed=()
 for target in "${targets[@]}"; do
   corpus=build-fuzz/corpus/$target findings=build-fuzz/findings/$target
+  rm -rf "$findings"  # what is printed below is this run's
   mkdir -p "$corpus" "$findings"
   [ -t 1 ] && printf '%s: fuzzing for %s s ...\r' "$target" "$seconds"
   if build-fuzz/tests/fuzz/${target}_fuzz "$corpus" "tests/fuzz/corpus/$target" -max_total_time="$seconds" \
@@ -26,7 +29,12 @@ for target in "${targets[@]}"; do
     echo "$target: ${runs:-?} inputs in ${seconds} s, corpus $(ls "$corpus" | wc -l) files, no finding"
   else
     echo "$target: FINDING, input in $findings/ (log $findings.log):"
-    grep -E "ERROR|SUMMARY|runtime error|Test unit written" "$findings.log" | head -10
+    # -a: the log can hold the input's bytes, and grep would then say only "binary file matches".
+    grep -a -E "ERROR|SUMMARY|runtime error|#[0-9]+ 0x|Test unit written" "$findings.log" | head -30
+    # CI's work tree is gone after the run: the input itself, to reproduce the finding from the log.
+    for input in "$findings"/*; do
+      [ "$(stat -c %s "$input")" -le 65536 ] && { echo "$(basename "$input") as base64:"; base64 -w 0 "$input"; echo; }
+    done
     failed+=("$target")
   fi
 done

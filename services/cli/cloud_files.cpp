@@ -65,6 +65,24 @@ unsigned long long file_size(const std::string& path) {
   return error ? 0 : size;
 }
 
+// binary_compressed data starts with its compressed and uncompressed sizes (little endian
+// uint32), and PCL trusts both: it resizes its buffer to the uncompressed size, then copies
+// POINTS x fields out of it, and reads as many compressed bytes as the first says, past the
+// file's end if need be (found by tests/fuzz, cloud_file). So both must fit the header.
+template <typename Fail>
+void check_compressed_sizes(std::istream& data, unsigned long long left, unsigned long long expected, const Fail& fail) {
+  unsigned char sizes[8];
+  if (left < 8 || !data.read(reinterpret_cast<char*>(sizes), 8)) fail("binary_compressed data without its sizes");
+  const auto uint32_at = [&](int at) {
+    return static_cast<unsigned long long>(sizes[at]) | sizes[at + 1] << 8 | sizes[at + 2] << 16 |
+           static_cast<unsigned long long>(sizes[at + 3]) << 24;
+  };
+  if (uint32_at(0) > left - 8)
+    fail("compressed size " + std::to_string(uint32_at(0)) + " past the file's " + std::to_string(left - 8) + " bytes of data");
+  if (uint32_at(4) != expected)
+    fail("uncompressed size " + std::to_string(uint32_at(4)) + " is not the " + std::to_string(expected) + " bytes POINTS x fields take");
+}
+
 // PCL's PCD reader crashes on damaged headers (a DATA line without FIELDS, found by
 // tests/fuzz, cloud_file): check the whole header first, so PCL reads only what is a
 // consistent PCD header: known keys, one SIZE, TYPE (and COUNT) per field, sizes 1, 2, 4 or
@@ -122,6 +140,7 @@ void check_pcd_header(const std::string& path) {
   const unsigned long long per_point = data == "ascii" ? 2 * fields : point_bytes;
   if (points * per_point > (data == "binary_compressed" ? 100 : 1) * left)
     fail("POINTS " + std::to_string(points) + " do not fit in the file's " + std::to_string(left) + " bytes of data");
+  if (data == "binary_compressed") check_compressed_sizes(in, left, points * point_bytes, fail);
 }
 
 // PCL's PLY reader sizes its buffers by the header's element counts before reading

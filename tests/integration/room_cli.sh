@@ -45,6 +45,24 @@ PY
 [ "$status" -eq 0 ] || fail "exit $status for a measurable room"
 grep -q "<svg" "$work/plan.svg" || fail "no SVG floor plan"
 
+# The same room as PCL's binary_compressed PCD (fields one after another, LZF: literal runs
+# only), read as the xyz; then with its sizes damaged (PCL trusts them: found by fuzzing).
+python3 - "$work/room_cm.xyz" "$work" <<'PY'
+import struct, sys
+points = [l.split() for l in open(sys.argv[1]) if not l.startswith("#")]
+fields = b"".join(struct.pack(f"<{len(points)}f", *(float(p[axis]) for p in points)) for axis in range(3))
+lzf = b"".join(bytes([len(fields[i:i + 32]) - 1]) + fields[i:i + 32] for i in range(0, len(fields), 32))
+header = (f"VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH {len(points)}\nHEIGHT 1\n"
+          f"POINTS {len(points)}\nDATA binary_compressed\n").encode()
+for name, compressed, uncompressed in [("compressed", len(lzf), len(fields)), ("compressed_short", len(lzf), 12),
+                                       ("compressed_past_end", len(lzf) + 1, len(fields))]:
+    open(f"{sys.argv[2]}/room_{name}.pcd", "wb").write(header + struct.pack("<II", compressed, uncompressed) + lzf)
+PY
+"$scanbus" room measure "$work/room_compressed.pcd" --unit cm --json > "$work/compressed.json" || fail "binary_compressed PCD"
+python3 -c 'import json,sys; a,b=(json.load(open(f)) for f in sys.argv[1:]); assert abs(a["area_m2"]-b["area_m2"])<1e-3 and a["points_in"]==b["points_in"], (a, b)' \
+  "$work/out.json" "$work/compressed.json" && echo "ok   binary_compressed PCD reads as the xyz" || fail "binary_compressed PCD differs from the xyz"
+expect_exit 2 "uncompressed size 12 is not the" -- "$scanbus" room measure "$work/room_compressed_short.pcd"
+expect_exit 2 "past the file's" -- "$scanbus" room measure "$work/room_compressed_past_end.pcd"
 
 : > "$work/empty.xyz"
 expect_exit 2 "no points" -- "$scanbus" room measure "$work/empty.xyz"
