@@ -83,10 +83,31 @@ void check_compressed_sizes(std::istream& data, unsigned long long left, unsigne
     fail("uncompressed size " + std::to_string(uint32_at(4)) + " is not the " + std::to_string(expected) + " bytes POINTS x fields take");
 }
 
+// PCL's header reader goes on after DATA: it skips empty and comment lines and applies any
+// line that starts like a key (FIELDSX counts as FIELDS) to the cloud it then fills with the
+// data, as the first DATA line said. Data that starts so is refused (a second FIELDS, SIZE,
+// TYPE... made PCL read past its buffer: found by tests/fuzz, cloud_file).
+template <typename Fail>
+void check_no_header_after_data(const std::string& path, std::streamoff data_start, const Fail& fail) {
+  static const char* kPclKeys[] = {"FIELDS", "COLUMNS", "SIZE", "TYPE", "COUNT", "WIDTH", "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
+  std::ifstream in(path, std::ios::binary);
+  in.seekg(data_start);
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty()) continue;
+    std::istringstream words(line);
+    std::string key;
+    if (!(words >> key)) return;
+    if (key[0] == '#' || key.rfind("VERSION", 0) == 0) continue;
+    for (const char* pcl_key : kPclKeys)
+      if (key.rfind(pcl_key, 0) == 0) fail("the data starts with a header line, " + key.substr(0, 20));
+    return;
+  }
+}
+
 // PCL's PCD reader crashes on damaged headers (a DATA line without FIELDS, found by
 // tests/fuzz, cloud_file): check the whole header first, so PCL reads only what is a
-// consistent PCD header: known keys, one SIZE, TYPE (and COUNT) per field, sizes 1, 2, 4 or
-// 8, types I, U or F, POINTS = WIDTH x HEIGHT, DATA ascii, binary or binary_compressed.
+// consistent PCD header: known keys, one SIZE, TYPE (and COUNT) per field, types I or U of
+// 1, 2, 4 or 8 bytes, F of 4 or 8, B of 1, POINTS = WIDTH x HEIGHT, DATA ascii, binary or binary_compressed.
 void check_pcd_header(const std::string& path) {
   static const char* kKeys[] = {"VERSION", "FIELDS", "SIZE", "TYPE", "COUNT", "WIDTH", "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
   const auto fail = [&](const std::string& why) { throw CloudFileError(path + ": not a readable pcd file (" + why + ")"); };
@@ -114,10 +135,13 @@ void check_pcd_header(const std::string& path) {
   const size_t fields = header["FIELDS"].size();
   for (const char* key : {"SIZE", "TYPE", "COUNT"})
     if (header.count(key) && header[key].size() != fields) fail(std::string(key) + " does not give one value per field");
-  for (const auto& size : header["SIZE"])
-    if (size != "1" && size != "2" && size != "4" && size != "8") fail("field size '" + size.substr(0, 20) + "'");
-  for (const auto& type : header["TYPE"])
-    if (type != "I" && type != "U" && type != "F") fail("field type '" + type.substr(0, 20) + "'");
+  // The types PCL knows (pcl::getFieldType): with any other, its reader indexes by type 255.
+  for (size_t f = 0; f < fields; ++f) {
+    const std::string &size = header["SIZE"][f], &type = header["TYPE"][f];
+    const bool integer = (type == "I" || type == "U") && (size == "1" || size == "2" || size == "4" || size == "8");
+    if (!integer && !(type == "F" && (size == "4" || size == "8")) && !(type == "B" && size == "1"))
+      fail("field type '" + type.substr(0, 20) + "' of size '" + size.substr(0, 20) + "'");
+  }
   const auto count = [&](const std::string& key, const std::string& fallback) {
     const std::string text = header.count(key) && !header[key].empty() ? header[key][0] : fallback;
     const auto value = header_count(text);
@@ -136,11 +160,13 @@ void check_pcd_header(const std::string& path) {
   unsigned long long point_bytes = 0;
   for (size_t f = 0; f < fields; ++f)
     point_bytes += std::stoull(header["SIZE"][f]) * (header.count("COUNT") ? std::stoull(header["COUNT"][f]) : 1);
-  const unsigned long long left = file_size(path) - static_cast<unsigned long long>(std::max<std::streamoff>(in.tellg(), 0));
+  const std::streamoff data_start = std::max<std::streamoff>(in.tellg(), 0);
+  const unsigned long long left = file_size(path) - static_cast<unsigned long long>(data_start);
   const unsigned long long per_point = data == "ascii" ? 2 * fields : point_bytes;
   if (points * per_point > (data == "binary_compressed" ? 100 : 1) * left)
     fail("POINTS " + std::to_string(points) + " do not fit in the file's " + std::to_string(left) + " bytes of data");
   if (data == "binary_compressed") check_compressed_sizes(in, left, points * point_bytes, fail);
+  check_no_header_after_data(path, data_start, fail);
 }
 
 // PCL's PLY reader sizes its buffers by the header's element counts before reading
@@ -180,7 +206,8 @@ void check_ply_header(const std::string& path) {
     if (key == "end_header") {
       unsigned long long needed = 0;
       for (const auto& [count, bytes] : elements) needed += count * bytes;
-      const unsigned long long left = file_size(path) - static_cast<unsigned long long>(std::max<std::streamoff>(in.tellg(), 0));
+      const std::streamoff data_start = std::max<std::streamoff>(in.tellg(), 0);
+  const unsigned long long left = file_size(path) - static_cast<unsigned long long>(data_start);
       if (needed > left) fail("its elements need " + std::to_string(needed) + " bytes, the file holds " + std::to_string(left));
       return;
     }
