@@ -63,6 +63,10 @@ python3 -c 'import json,sys; a,b=(json.load(open(f)) for f in sys.argv[1:]); ass
   "$work/out.json" "$work/compressed.json" && echo "ok   binary_compressed PCD reads as the xyz" || fail "binary_compressed PCD differs from the xyz"
 expect_exit 2 "uncompressed size 12 is not the" -- "$scanbus" room measure "$work/room_compressed_short.pcd"
 expect_exit 2 "past the file's" -- "$scanbus" room measure "$work/room_compressed_past_end.pcd"
+printf 'FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nPOINTS 1\nDATA ascii\nSIZE 8 8 8\n1 2 3\n' > "$work/second_header.pcd"
+expect_exit 2 "the data starts with a header line, SIZE" -- "$scanbus" room measure "$work/second_header.pcd"
+printf 'FIELDS x y z\nSIZE 2 4 4\nTYPE F F F\nWIDTH 1\nPOINTS 1\nDATA ascii\n1 2 3\n' > "$work/half_float.pcd"
+expect_exit 2 "field type 'F' of size '2'" -- "$scanbus" room measure "$work/half_float.pcd"
 
 : > "$work/empty.xyz"
 expect_exit 2 "no points" -- "$scanbus" room measure "$work/empty.xyz"
