@@ -160,7 +160,8 @@ void check_pcd_header(const std::string& path) {
   unsigned long long point_bytes = 0;
   for (size_t f = 0; f < fields; ++f)
     point_bytes += std::stoull(header["SIZE"][f]) * (header.count("COUNT") ? std::stoull(header["COUNT"][f]) : 1);
-  const std::streamoff data_start = std::max<std::streamoff>(in.tellg(), 0);
+  // A DATA line that ends the file leaves the stream at its end, where tellg says -1.
+  const std::streamoff data_start = in.good() ? std::streamoff(in.tellg()) : std::streamoff(file_size(path));
   const unsigned long long left = file_size(path) - static_cast<unsigned long long>(data_start);
   const unsigned long long per_point = data == "ascii" ? 2 * fields : point_bytes;
   if (points * per_point > (data == "binary_compressed" ? 100 : 1) * left)
@@ -206,8 +207,7 @@ void check_ply_header(const std::string& path) {
     if (key == "end_header") {
       unsigned long long needed = 0;
       for (const auto& [count, bytes] : elements) needed += count * bytes;
-      const std::streamoff data_start = std::max<std::streamoff>(in.tellg(), 0);
-  const unsigned long long left = file_size(path) - static_cast<unsigned long long>(data_start);
+      const unsigned long long left = file_size(path) - static_cast<unsigned long long>(std::max<std::streamoff>(in.tellg(), 0));
       if (needed > left) fail("its elements need " + std::to_string(needed) + " bytes, the file holds " + std::to_string(left));
       return;
     }
