@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
+#include <set>
 #include <thread>
 
 #include "raw_endpoints.hpp"
@@ -104,8 +105,12 @@ ReplayResult replay(Participant& participant, const ReplaySettings& settings, st
   }
 
   std::map<uint16_t, std::unique_ptr<RawWriter>> writers;
-  for (const auto& [channel, topic] : plan.topic_of_channel)
-    writers[channel] = std::make_unique<RawWriter>(participant, topic, plan.type_of_channel.at(channel), replay_qos(topic));
+  std::set<uint16_t> latched;  // channels whose writer keeps only the last samples
+  for (const auto& [channel, topic] : plan.topic_of_channel) {
+    const dds::DataWriterQos qos = replay_qos(topic);
+    writers[channel] = std::make_unique<RawWriter>(participant, topic, plan.type_of_channel.at(channel), qos);
+    if (qos.history().kind == dds::KEEP_LAST_HISTORY_QOS) latched.insert(channel);
+  }
   const auto wait_deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(settings.wait_timeout);
   for (const auto& [channel, writer] : writers) {
     while (writer->matched_readers() < settings.wait_for_readers && std::chrono::steady_clock::now() < wait_deadline) {
@@ -149,6 +154,12 @@ ReplayResult replay(Participant& participant, const ReplaySettings& settings, st
                           settings.file, message.size, channel.topic);
               return;
             }
+            // A transient-local writer keeps its catalogue depth (late joiners get the last
+            // samples): its next write would replace a sample not yet acknowledged, lost to a
+            // reader still catching up (a room's three scan clouds at --rate 0 under load).
+            if (latched.count(channel.id))
+              while (!writer->second->wait_for_acknowledgments(std::chrono::milliseconds(200)))
+                if (StopSignal::requested()) throw Stopped{};
             ++result.published;
             ++result.published_by_topic[writer->second->topic()];
             if (progress) progress(result.published, plan.messages);
