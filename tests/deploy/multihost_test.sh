@@ -47,7 +47,9 @@ for host in a b c; do
 done
 server="$subnet.1"
 sed "s/<address>127.0.0.1<\/address>/<address>$server<\/address>/" "$root/config/dds/discovery_client.xml" > "$work/client.xml"
-on() { local host=$1; shift; ip netns exec "sb$host$tag" env SCANBUS_DDS_PROFILE_FILE="$work/client.xml" SCANBUS_DDS_PROFILE=discovery_client "$@"; }
+# Only in the background: exec makes the job's pid ($!) the program's, so cleanup's TERM
+# reaches it (without, it reached the job's subshell and left the program running).
+on() { local host=$1; shift; exec ip netns exec "sb$host$tag" env SCANBUS_DDS_PROFILE_FILE="$work/client.xml" SCANBUS_DDS_PROFILE=discovery_client "$@"; }
 
 on a fast-discovery-server -i 0 -l "$server" -p 11811 > "$work/server.log" 2>&1 &
 pids+=($!)

@@ -8,7 +8,8 @@ set -euo pipefail
 scanbus=$1
 sample=$2
 work=$(mktemp -d)
-cleanup() { jobs -p | xargs -r kill -TERM 2>/dev/null || true; wait 2>/dev/null || true; rm -rf "$work"; }
+# CONT too: a service left frozen (SIGSTOP, below) would hold its TERM, and wait, for ever.
+cleanup() { jobs -p | xargs -r kill -TERM 2>/dev/null || true; jobs -p | xargs -r kill -CONT 2>/dev/null || true; wait 2>/dev/null || true; rm -rf "$work"; }
 trap cleanup EXIT
 
 printf 'room_measurement:\n  scans: 3\n' > "$work/room.yaml"
