@@ -16,21 +16,23 @@ command -v openssl > /dev/null || { echo "SKIP: openssl is not installed"; exit 
 
 "$root/scripts/make-security.sh" "$work/project" > /dev/null
 "$root/scripts/make-security.sh" "$work/other_ca" > /dev/null  # the same names, another CA
-secure() { SCANBUS_DDS_PROFILE_FILE="$work/project/secure.xml" SCANBUS_DDS_PROFILE=secure "$@"; }
-intruder() { SCANBUS_DDS_PROFILE_FILE="$work/other_ca/secure.xml" SCANBUS_DDS_PROFILE=secure "$@"; }
+# Command prefixes, not shell functions: a function run with & is a subshell, and cleanup's
+# TERM to its pid left the program running.
+secure=(env SCANBUS_DDS_PROFILE_FILE="$work/project/secure.xml" SCANBUS_DDS_PROFILE=secure)
+intruder=(env SCANBUS_DDS_PROFILE_FILE="$work/other_ca/secure.xml" SCANBUS_DDS_PROFILE=secure)
 
 printf 'room_measurement:\n  scans: 3\n' > "$work/room.yaml"
-secure "$scanbus" run room_measurement --config "$work/room.yaml" > "$work/room.log" 2>&1 &
-secure "$scanbus" echo rt/room/measurement --count 1 --timeout 60 > "$work/secure.json" 2> "$work/secure.log" &
+"${secure[@]}" "$scanbus" run room_measurement --config "$work/room.yaml" > "$work/room.log" 2>&1 &
+"${secure[@]}" "$scanbus" echo rt/room/measurement --count 1 --timeout 60 > "$work/secure.json" 2> "$work/secure.log" &
 secure_reader=$!
 "$scanbus" echo rt/room/measurement --count 1 --timeout 25 > "$work/plain.json" 2> "$work/plain.log" &
 plain_reader=$!
-intruder "$scanbus" echo rt/room/measurement --count 1 --timeout 25 > "$work/intruder.json" 2> "$work/intruder.log" &
+"${intruder[@]}" "$scanbus" echo rt/room/measurement --count 1 --timeout 25 > "$work/intruder.json" 2> "$work/intruder.log" &
 intruder_reader=$!
-intruder "$scanbus" health --once --json --timeout 20 > "$work/intruder_health.jsonl" 2>&1 &
+"${intruder[@]}" "$scanbus" health --once --json --timeout 20 > "$work/intruder_health.jsonl" 2>&1 &
 intruder_health=$!
 sleep 3
-secure "$scanbus" replay "$data/room_scan.mcap" --topics /scanner/scan_cloud --rate 0 --wait-for-readers 1 \
+"${secure[@]}" "$scanbus" replay "$data/room_scan.mcap" --topics /scanner/scan_cloud --rate 0 --wait-for-readers 1 \
   --wait-timeout 30 > "$work/replay.log" 2>&1
 
 wait "$secure_reader" || { echo "FAIL: no RoomMeasurement on the secure profile"; cat "$work/room.log" "$work/secure.log"; exit 1; }
