@@ -7,7 +7,7 @@
 
 #include "scanbus/room_measurement/room_measurement.hpp"
 #include "scanbus/sim/room_file.hpp"
-#include "simulated_scan.hpp"
+#include "scanbus/room_evaluation/simulated_scan.hpp"
 
 namespace {
 
@@ -19,9 +19,9 @@ const std::vector<Eigen::Vector3f>& scan_of(size_t count) {
   auto& points = scans[count];
   if (points.empty()) {
     const auto room = sim::load_room_file(std::string(SCANBUS_SOURCE_DIR) + "/config/rooms/thesis_case1.yaml");
-    test_support::SimulatedScanSettings settings;
+    room_evaluation::SimulatedScanSettings settings;
     settings.cycles = static_cast<int>(count / 6000 + 1);
-    points = test_support::simulated_scan(room, settings);
+    points = room_evaluation::simulated_scan(room, settings);
     if (points.size() < count) throw std::runtime_error("simulated scan too small");
     points.resize(count);
   }

@@ -40,6 +40,7 @@ void add_room_command(CLI::App& app, int& exit_code);
 void add_scanmatch_command(CLI::App& app, int& exit_code);
 void add_mav_sim_command(CLI::App& sim, int& exit_code);  // `sim mav`, under add_sim_command's `sim`
 void add_eval_command(CLI::App& app, int& exit_code);
+void add_eval_rooms_command(CLI::App& eval, int& exit_code);  // `eval rooms`, under add_eval_command's `eval`
 void add_cloud_command(CLI::App& app, int& exit_code);
 void add_record_commands(CLI::App& app, int& exit_code);  // record, replay, info
 

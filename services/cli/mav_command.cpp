@@ -249,8 +249,9 @@ void add_mav_sim_command(CLI::App& sim, int& exit_code) {
 }
 
 void add_eval_command(CLI::App& app, int& exit_code) {
-  auto* eval = app.add_subcommand("eval", "Ground model evaluation: flights against their truth, boxes in a cloud");
+  auto* eval = app.add_subcommand("eval", "Evaluations against truth: MAV flights, boxes in a ground cloud, simulated rooms");
   eval->require_subcommand(1);
+  add_eval_rooms_command(*eval, exit_code);
 
   static EvalMavOptions mav;
   auto* flights = eval->add_subcommand("mav", "Height RMSE and box P of MAV flights through the whole pipeline "

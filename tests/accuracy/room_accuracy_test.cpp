@@ -7,7 +7,7 @@
 
 #include "scanbus/room_measurement/room_measurement.hpp"
 #include "scanbus/sim/room_file.hpp"
-#include "simulated_scan.hpp"
+#include "scanbus/room_evaluation/simulated_scan.hpp"
 
 using namespace scanbus;
 
@@ -21,7 +21,7 @@ sim::RoomModel room(const std::string& name) {
 // is in the scanner frame. Match each measured wall to the model wall whose line it is.
 void expect_accurate(const std::string& name) {
   const sim::RoomModel model = room(name);
-  const auto points = test_support::simulated_scan(model, {});
+  const auto points = room_evaluation::simulated_scan(model, {});
   const auto result = room_measurement::measure_room(points, room_measurement::RoomSettings{});
   ASSERT_EQ(result.status, room_measurement::RoomStatus::Ok) << result.message;
   ASSERT_EQ(result.walls.size(), model.corners.size()) << name;

@@ -43,7 +43,7 @@ std::vector<Line> parse(const std::string& output) {
 }
 
 struct Rig {
-  explicit Rig(SimulatedHardware::RangeFunction range = [](const Eigen::Vector3d&) { return 3.0; },
+  explicit Rig(SimulatedHardware::RangeFunction range = [](const Eigen::Vector3d&, const Eigen::Vector3d&) { return 3.0; },
                HardwareSettings settings = quiet())
       : hardware(std::move(range), settings), core(hardware) {
     core.begin();
@@ -126,7 +126,7 @@ TEST(Protocol, FramingAndChecksum) {
 }
 
 TEST(Commands, HelloStatusAndErrors) {
-  SimulatedHardware hardware([](const Eigen::Vector3d&) { return 3.0; }, Rig::quiet());
+  SimulatedHardware hardware([](const Eigen::Vector3d&, const Eigen::Vector3d&) { return 3.0; }, Rig::quiet());
   ScannerCore core(hardware);
   core.begin();
   const auto hello = parse(hardware.take_output());
@@ -199,7 +199,7 @@ TEST(Scan, SpeedControlHoldsEachSetting) {
 
 TEST(Scan, ReportedYawMatchesThePole) {
   std::vector<double> true_yaw;
-  Rig rig([&](const Eigen::Vector3d& direction) {
+  Rig rig([&](const Eigen::Vector3d&, const Eigen::Vector3d& direction) {
     true_yaw.push_back(std::atan2(direction.y(), direction.x()));
     return 3.0;
   });

@@ -42,9 +42,9 @@ Eigen::Vector3d RoomModel::to_room(const Eigen::Vector3d& scanner_point) const {
   return scanner + heading_rotation(heading) * scanner_point;
 }
 
-std::optional<double> RoomModel::cast(const Eigen::Vector3d& scanner_direction) const {
+std::optional<double> RoomModel::cast(const Eigen::Vector3d& scanner_origin, const Eigen::Vector3d& scanner_direction) const {
   const Eigen::Vector3d direction = heading_rotation(heading) * scanner_direction;
-  const Eigen::Vector3d& origin = scanner;
+  const Eigen::Vector3d origin = to_room(scanner_origin);
   double nearest = std::numeric_limits<double>::infinity();
   if (direction.z() < 0) nearest = -origin.z() / direction.z();
   if (direction.z() > 0) nearest = (ceiling - origin.z()) / direction.z();
@@ -64,6 +64,15 @@ std::optional<double> RoomModel::cast(const Eigen::Vector3d& scanner_direction) 
       through_opening |= opening.wall == i && along >= opening.from && along <= opening.to &&
                          height >= opening.bottom && height <= opening.top;
     if (!through_opening) nearest = t;
+  }
+  for (const auto& wall : outside_walls) {
+    const Eigen::Vector2d a = wall.from - origin.head<2>(), edge = wall.to - wall.from;
+    const double denominator = direction.x() * edge.y() - direction.y() * edge.x();
+    if (std::abs(denominator) < 1e-12) continue;
+    const double t = (a.x() * edge.y() - a.y() * edge.x()) / denominator;
+    const double s = (a.x() * direction.y() - a.y() * direction.x()) / denominator;
+    const double height = origin.z() + t * direction.z();
+    if (t > 0 && s >= 0 && s <= 1 && t < nearest && height >= 0 && height <= ceiling) nearest = t;
   }
   for (const auto& box : boxes) nearest = std::min(nearest, cast_box(box, origin, direction));
   if (!std::isfinite(nearest)) return std::nullopt;

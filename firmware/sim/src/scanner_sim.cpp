@@ -32,7 +32,7 @@ const char* embedded_room() {
 // One power-on of the device: hardware state and firmware restart together.
 struct Device {
   Device(const RoomModel& room, const ScannerSimOptions& options, unsigned boot)
-      : hardware([&room](const Eigen::Vector3d& d) { return room.cast(d); }, settings(options, boot)), core(hardware) {
+      : hardware([&room](const Eigen::Vector3d& o, const Eigen::Vector3d& d) { return room.cast(o, d); }, settings(options, boot)), core(hardware) {
     core.begin();
   }
   static HardwareSettings settings(const ScannerSimOptions& options, unsigned boot) {

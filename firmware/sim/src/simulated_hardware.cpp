@@ -16,7 +16,14 @@ constexpr double kStep = 0.0002;  // s: edges at 28 RPM are 5 ms apart
 }  // namespace
 
 SimulatedHardware::SimulatedHardware(RangeFunction range, HardwareSettings settings)
-    : range_(std::move(range)), settings_(settings), random_(settings.seed), noise_(0.0, settings.range_noise) {}
+    : range_(std::move(range)), settings_(settings), random_(settings.seed), noise_(0.0, 1.0) {
+  // Drawn only when asked for, so an ideal device's noise sequence stays what it was.
+  servo_errors_.assign(181, settings.errors.servo_offset);
+  if (settings.errors.servo_error > 0) {
+    std::normal_distribution<double> servo(0.0, settings.errors.servo_error);
+    for (double& error : servo_errors_) error += servo(random_);
+  }
+}
 
 uint32_t SimulatedHardware::millis() { return static_cast<uint32_t>(time_ * 1e3); }
 uint32_t SimulatedHardware::micros() { return static_cast<uint32_t>(time_ * 1e6); }
@@ -30,17 +37,21 @@ void SimulatedHardware::set_motor(uint8_t duty) {
 void SimulatedHardware::set_servo_degrees(uint8_t degrees) { pitch_target_ = std::min<double>(degrees, 180); }
 
 bool SimulatedHardware::measure(uint16_t& range_cm, uint8_t& signal) {
-  // The ray leaves at the start of the acquisition, along the true pole and servo angles.
-  const double pitch = pitch_ * M_PI / 180.0;
-  const Eigen::Vector3d direction(std::cos(pole_angle_) * std::sin(pitch), std::sin(pole_angle_) * std::sin(pitch),
-                                  std::cos(pitch));
-  const std::optional<double> hit = range_(direction);
+  // The ray leaves at the start of the acquisition, along the true pole and servo angles,
+  // from the LiDAR's optical centre.
+  const DeviceErrors& e = settings_.errors;
+  const double pitch = pitch_ * M_PI / 180.0 + servo_errors_[static_cast<size_t>(std::lround(pitch_target_))];
+  const double yaw = pole_angle_ + e.encoder_offset + e.yaw_eccentricity * std::sin(pole_angle_ + e.yaw_phase);
+  const Eigen::Vector3d direction(std::cos(yaw) * std::sin(pitch), std::sin(yaw) * std::sin(pitch), std::cos(pitch));
+  const Eigen::Vector3d up(-std::cos(yaw) * std::cos(pitch), -std::sin(yaw) * std::cos(pitch), std::sin(pitch));
+  const std::optional<double> hit = range_(e.lever_arm * up, direction);
   const bool dropout = uniform_(random_) < settings_.dropout;
   if (!hit || *hit > settings_.max_range || dropout) {
     range_cm = 1;  // what a LIDAR-Lite v3 reports without a return
     signal = 0;
   } else {
-    const double measured = std::max(0.01, *hit + noise_(random_));
+    const double sigma = settings_.range_noise + e.range_noise_per_m * *hit;
+    const double measured = std::max(0.01, *hit + e.range_bias + sigma * noise_(random_));
     range_cm = static_cast<uint16_t>(std::lround(measured * 100.0));
     signal = static_cast<uint8_t>(std::clamp(255.0 / (1.0 + *hit * *hit / 25.0), 1.0, 255.0));
   }

@@ -116,3 +116,17 @@ TEST(RoomFile, BadRoomIsAConfigError) {
   EXPECT_EQ(error("corners: [[0, 0], [1, 0], [1, 1]]\nscanner: {position: [5, 5, 1]}\n"),
             "room.yaml: the scanner stands outside the floor plan");
 }
+
+TEST(RoomModel, OutsideWallsAreSeenThroughOpeningsOnly) {
+  RoomModel room = box_room();
+  room.openings.push_back({1, 0.5, 1.5, 0.0, 2.0});                 // a door in the wall at x = 5
+  room.outside_walls.push_back({{7, -2}, {7, 5}});                  // a corridor's far side
+  EXPECT_NEAR(*room.cast({1, 0, 0}), 5.0, 1e-9);                   // through the door
+  EXPECT_NEAR(*room.cast(Eigen::Vector3d(1, 0.5, 0).normalized()), 3.0 * std::sqrt(1.25), 1e-9);  // the wall beside it
+}
+
+TEST(RoomModel, CastFromAnOffsetOrigin) {
+  const RoomModel room = box_room();
+  EXPECT_NEAR(*room.cast({0, 0, 0.1}, {0, 0, 1}), 1.4, 1e-9);  // 10 cm up, 10 cm nearer the ceiling
+  EXPECT_NEAR(*room.cast({0.5, 0, 0}, {1, 0, 0}), 2.5, 1e-9);
+}

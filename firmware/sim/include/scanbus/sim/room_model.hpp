@@ -18,6 +18,12 @@ struct Opening {
   double bottom = 0, top = 2.0;   // m above the floor
 };
 
+// A floor-to-ceiling wall outside the room, seen through its openings: a corridor's far
+// side, the next room's wall.
+struct OutsideWall {
+  Eigen::Vector2d from, to;
+};
+
 struct Box {
   Eigen::Vector3d min, max;       // axis-aligned in room coordinates
 };
@@ -28,12 +34,15 @@ struct RoomModel {
   double ceiling = 2.5;                  // m above the floor
   double outside = 3.0;                  // m: floor and ceiling go on this far past the walls (a corridor)
   std::vector<Opening> openings;
+  std::vector<OutsideWall> outside_walls;
   std::vector<Box> boxes;
   Eigen::Vector3d scanner{0, 0, 1.2};    // scanner origin in room coordinates
   double heading = 0;                    // rad, scanner x axis against the room's x axis
 
-  // Distance along a unit direction given in the scanner frame; nullopt when it escapes.
-  std::optional<double> cast(const Eigen::Vector3d& direction) const;
+  // Distance from an origin along a unit direction, both in the scanner frame; nullopt when
+  // the ray escapes.
+  std::optional<double> cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
+  std::optional<double> cast(const Eigen::Vector3d& direction) const { return cast(Eigen::Vector3d::Zero(), direction); }
   // Distance from a point in the scanner frame to the nearest surface.
   double distance_to_surface(const Eigen::Vector3d& point) const;
 

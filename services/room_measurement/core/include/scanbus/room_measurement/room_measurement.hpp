@@ -54,6 +54,7 @@ struct RoomResult {
   std::vector<WallLine> candidates;       // every wall-like plane found, for diagnosis when no room closes
   std::vector<Eigen::Vector2d> corners;   // corners[i] joins walls[i-1] and walls[i]
   double area = 0, perimeter = 0;
+  double area_sigma = 0;  // m^2, one sigma
   std::optional<double> floor_z, ceiling_z;
   size_t points_in = 0, points_valid = 0, points_after_filter = 0, points_after_voxel = 0;
   bool voxel_overflow = false;

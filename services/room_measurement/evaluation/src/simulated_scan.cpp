@@ -1,4 +1,4 @@
-#include "simulated_scan.hpp"
+#include "scanbus/room_evaluation/simulated_scan.hpp"
 
 #include <sstream>
 #include <stdexcept>
@@ -7,14 +7,11 @@
 #include "scanbus/sim/simulated_hardware.hpp"
 #include "scanner_core.h"
 
-namespace scanbus::test_support {
+namespace scanbus::room_evaluation {
 
 std::vector<Eigen::Vector3f> simulated_scan(const sim::RoomModel& room, const SimulatedScanSettings& settings) {
-  sim::HardwareSettings hardware_settings;
-  hardware_settings.range_noise = settings.noise;
-  hardware_settings.dropout = settings.dropout;
-  hardware_settings.seed = settings.seed;
-  sim::SimulatedHardware hardware([&room](const Eigen::Vector3d& d) { return room.cast(d); }, hardware_settings);
+  sim::SimulatedHardware hardware([&room](const Eigen::Vector3d& o, const Eigen::Vector3d& d) { return room.cast(o, d); },
+                                  settings.hardware);
   scanner::ScannerCore core(hardware);
   core.begin();
   scanner_io::ScanAssembler assembler(scanner_io::RangeGate{});
@@ -42,4 +39,4 @@ std::vector<Eigen::Vector3f> simulated_scan(const sim::RoomModel& room, const Si
   return points;
 }
 
-}  // namespace scanbus::test_support
+}  // namespace scanbus::room_evaluation

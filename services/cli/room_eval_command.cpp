@@ -1,0 +1,119 @@
+// `scanbus eval rooms`: the room measurement on a seeded sweep of simulated rooms.
+#include <unistd.h>
+
+#include <cstdio>
+#include <iostream>
+
+#include "commands.hpp"
+#include "scanbus/room_evaluation/room_evaluation.hpp"
+
+namespace scanbus::cli {
+
+namespace {
+
+struct EvalRoomsOptions {
+  room_evaluation::SweepOptions sweep;
+  bool json = false;
+  bool cases = false;
+};
+
+nlohmann::json summary_json(const room_evaluation::SweepSummary& s) {
+  nlohmann::json out = {{"category", s.category},
+                        {"rooms", s.rooms},
+                        {"measurable", s.measurable},
+                        {"measured", s.measured},
+                        {"within_target", s.within_target},
+                        {"wrong", s.wrong},
+                        {"ok_over_2cm", s.ok_over_2cm},
+                        {"refused", s.refused},
+                        {"refused_wrongly", s.refused_wrongly},
+                        {"walls", s.walls},
+                        {"median_wall_error_m", s.median_wall_error},
+                        {"p95_wall_error_m", s.p95_wall_error},
+                        {"max_wall_error_m", s.max_wall_error},
+                        {"p95_area_error", s.p95_area_error},
+                        {"max_area_error", s.max_area_error},
+                        {"walls_within_1_sigma", s.within_1_sigma},
+                        {"walls_within_2_sigma", s.within_2_sigma},
+                        {"worst_ceiling_error_m", nullptr}};
+  if (s.worst_ceiling_error) out["worst_ceiling_error_m"] = *s.worst_ceiling_error;
+  return out;
+}
+
+nlohmann::json case_json(const room_evaluation::RoomCase& c) {
+  nlohmann::json walls = nlohmann::json::array();
+  for (const auto& w : c.walls) walls.push_back({{"true_m", w.true_length}, {"measured_m", w.length}, {"sigma_m", w.sigma}});
+  nlohmann::json out = {{"category", sim::category_name(c.category)},
+                        {"seed", c.seed},
+                        {"true_walls", c.true_walls},
+                        {"measurable", c.measurable},
+                        {"unseen", c.unseen},
+                        {"status", room_measurement::status_name(c.status)},
+                        {"message", c.message},
+                        {"verdict", room_evaluation::verdict_name(c.verdict)},
+                        {"walls", walls},
+                        {"true_area_m2", c.true_area},
+                        {"area_m2", c.area},
+                        {"area_sigma_m2", c.area_sigma},
+                        {"true_ceiling_height_m", c.true_ceiling_height.value_or(NAN)},
+                        {"ceiling_height_m", nullptr},
+                        {"points", c.points},
+                        {"elapsed_ms", c.elapsed_ms}};
+  if (c.ceiling_height) out["ceiling_height_m"] = *c.ceiling_height;
+  return out;
+}
+
+void print_table(const std::vector<room_evaluation::SweepSummary>& summaries) {
+  std::printf("%-15s %5s %5s %5s %6s %5s %5s %7s %9s %9s %9s %8s %6s %6s\n", "category", "rooms", "seen", "ok",
+              "target", "wrong", ">2cm", "refused", "median_m", "p95_m", "max_m", "area_max", "1sig", "2sig");
+  for (const auto& s : summaries)
+    std::printf("%-15s %5zu %5zu %5zu %6zu %5zu %5zu %3zu/%-3zu %9.4f %9.4f %9.4f %7.2f%% %5.0f%% %5.0f%%\n",
+                s.category.c_str(), s.rooms, s.measurable, s.measured, s.within_target, s.wrong, s.ok_over_2cm,
+                s.refused, s.refused_wrongly, s.median_wall_error, s.p95_wall_error, s.max_wall_error,
+                100 * s.max_area_error, 100 * s.within_1_sigma, 100 * s.within_2_sigma);
+  std::printf("seen: every wall in view; ok: measured with the right walls; target: every wall within 1 cm and the "
+              "area within 0.5 %%;\n>2cm: ok with a wall more than 2 cm off or wrong walls; refused: right/wrongly "
+              "(a room in view); errors over matched walls; 1sig/2sig: walls within 1 and 2 sigma\n");
+}
+
+int run_eval_rooms(const EvalRoomsOptions& options) {
+  const bool progress = !options.json && isatty(STDOUT_FILENO);
+  const auto cases = room_evaluation::evaluate_sweep(options.sweep, room_measurement::RoomSettings{}, [&](size_t done, size_t total) {
+    if (progress) std::printf("\rscanning and measuring room %zu of %zu   ", done, total), std::fflush(stdout);
+  });
+  if (progress) std::printf("\r%60s\r", "");
+  const auto summaries = room_evaluation::summarize(cases);
+  if (options.json) {
+    nlohmann::json out = {{"summary", nlohmann::json::array()}, {"rooms", nlohmann::json::array()}};
+    for (const auto& s : summaries) out["summary"].push_back(summary_json(s));
+    for (const auto& c : cases) out["rooms"].push_back(case_json(c));
+    std::cout << out.dump() << "\n";
+    return 0;
+  }
+  if (options.cases)
+    for (const auto& c : cases) {
+      std::printf("%-15s seed %3u: %-15s %-18s walls %zu, max error %.4f m, area %.3f (true %.3f) m2%s%s: %s\n",
+                  sim::category_name(c.category), c.seed, room_evaluation::verdict_name(c.verdict),
+                  room_measurement::status_name(c.status), c.true_walls, c.max_wall_error(), c.area, c.true_area,
+                  c.measurable ? "" : ", not seen: ", c.unseen.c_str(), c.message.c_str());
+    }
+  print_table(summaries);
+  return 0;
+}
+
+}  // namespace
+
+void add_eval_rooms_command(CLI::App& eval, int& exit_code) {
+  static EvalRoomsOptions options;
+  auto* rooms = eval.add_subcommand("rooms", "Room measurement on a seeded sweep of simulated rooms (doors, windows, "
+                                    "alcoves, L and T shapes, angled walls, furniture, closets), scanned through the "
+                                    "firmware simulator with a device's imperfections; no DDS");
+  rooms->add_option("--count", options.sweep.count, "Rooms, spread over the categories")->check(CLI::Range(1, 100000));
+  rooms->add_option("--seed", options.sweep.first_seed, "First seed of each category");
+  rooms->add_option("--threads", options.sweep.threads, "Worker threads (0: one per core)")->check(CLI::Range(0, 256));
+  rooms->add_flag("--cases", options.cases, "Also print a line for every room");
+  rooms->add_flag("--json", options.json, "One JSON object (summary and every room), no progress");
+  on_run(*rooms, exit_code, [] { return run_eval_rooms(options); });
+}
+
+}  // namespace scanbus::cli

@@ -1,0 +1,77 @@
+// The room measurement judged on a sweep of generated rooms (sim::generate_room): each room
+// scanned through the firmware simulator, measured, and compared with its truth. A room is
+// measurable when the scanner sees every one of its walls; a measurable room should be
+// measured, any other refused.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scanbus/room_measurement/room_measurement.hpp"
+#include "scanbus/sim/room_generator.hpp"
+
+namespace scanbus::room_evaluation {
+
+struct WallCheck {
+  double true_length = 0, length = 0, sigma = 0;  // m
+  double error() const { return length - true_length; }
+};
+
+enum class Verdict {
+  Measured,        // ok, every wall matched to a true one
+  Wrong,           // ok, but the walls do not match the room's (count or place)
+  Refused,         // not ok, and the room could not be measured
+  RefusedWrongly,  // not ok, though every wall was in view
+};
+const char* verdict_name(Verdict verdict);
+
+struct RoomCase {
+  sim::RoomCategory category = sim::RoomCategory::Box;
+  unsigned seed = 0;
+  size_t true_walls = 0;
+  bool measurable = false;    // every wall seen (sim::wall_visibility)
+  std::string unseen;         // which walls are not, when not measurable
+  room_measurement::RoomStatus status = room_measurement::RoomStatus::Ok;
+  std::string message;
+  Verdict verdict = Verdict::Refused;
+  std::vector<WallCheck> walls;  // matched walls, when measured
+  double true_area = 0, area = 0, area_sigma = 0;
+  std::optional<double> true_ceiling_height, ceiling_height;
+  size_t points = 0;
+  double elapsed_ms = 0;
+
+  double max_wall_error() const;  // m, absolute; 0 without matched walls
+};
+
+// Scans and measures one generated room.
+RoomCase evaluate_room(const sim::GeneratedRoom& room, const room_measurement::RoomSettings& settings);
+
+struct SweepOptions {
+  int count = 120;        // rooms, spread evenly over the categories
+  unsigned first_seed = 1;
+  int threads = 0;        // 0: one per core
+};
+
+// Every room of the sweep, in category-then-seed order; `progress(done, total)` after each.
+std::vector<RoomCase> evaluate_sweep(const SweepOptions& options, const room_measurement::RoomSettings& settings,
+                                     const std::function<void(size_t, size_t)>& progress = {});
+
+struct SweepSummary {
+  std::string category;  // "all" for the whole sweep
+  size_t rooms = 0, measurable = 0;
+  size_t measured = 0, wrong = 0, refused = 0, refused_wrongly = 0;
+  size_t within_target = 0;   // measured with every wall within 1 cm and the area within 0.5 %
+  size_t ok_over_2cm = 0;     // status ok with a wall more than 2 cm wrong (or wrong walls)
+  size_t walls = 0;           // matched walls of measured rooms
+  double max_wall_error = 0, p95_wall_error = 0, median_wall_error = 0;  // m, absolute
+  double max_area_error = 0, p95_area_error = 0;                          // relative
+  double within_1_sigma = 0, within_2_sigma = 0;  // shares of matched walls
+  std::optional<double> worst_ceiling_error;      // m, over rooms that report a ceiling height
+};
+
+// Per category (in room_categories() order), then "all".
+std::vector<SweepSummary> summarize(const std::vector<RoomCase>& cases);
+
+}  // namespace scanbus::room_evaluation

@@ -1,0 +1,57 @@
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "scanbus/room_evaluation/room_evaluation.hpp"
+
+using namespace scanbus;
+
+TEST(RoomGenerator, EveryCategoryMakesValidRoomsFromSeeds) {
+  for (auto category : sim::room_categories()) {
+    std::set<double> areas;
+    for (unsigned seed = 1; seed <= 20; ++seed) {
+      const auto generated = sim::generate_room(category, seed);
+      EXPECT_NO_THROW(generated.room.validate()) << sim::category_name(category) << " seed " << seed;
+      EXPECT_GT(generated.hardware.errors.lever_arm, 0.0);
+      areas.insert(generated.room.floor_area());
+    }
+    EXPECT_GT(areas.size(), 15u) << sim::category_name(category) << ": seeds should make different rooms";
+  }
+  const auto a = sim::generate_room(sim::RoomCategory::Doors, 7), b = sim::generate_room(sim::RoomCategory::Doors, 7);
+  EXPECT_EQ(a.room.corners, b.room.corners);
+  EXPECT_EQ(a.hardware.seed, b.hardware.seed);
+}
+
+TEST(RoomGenerator, VisibilityOfAnLFromOneArm) {
+  sim::RoomModel room;
+  room.corners = {{0, 0}, {6, 0}, {6, 2}, {2, 2}, {2, 6}, {0, 6}};
+  room.ceiling = 2.5;
+  room.scanner = {5, 1, 1.2};  // in the arm along x: the far end of the other arm is out of sight
+  const auto seen = sim::wall_visibility(room);
+  ASSERT_EQ(seen.size(), 6u);
+  EXPECT_GT(seen[0], 0.9);  // the long wall beside the scanner
+  EXPECT_LT(seen[4], 0.05); // the far end of the other arm
+  room.scanner = {1, 1, 1.2};  // in the corner both arms share: every wall in view
+  for (double share : sim::wall_visibility(room)) EXPECT_GT(share, 0.5);
+}
+
+TEST(RoomEvaluation, SummaryCountsVerdictsAndErrors) {
+  room_evaluation::RoomCase good;
+  good.verdict = room_evaluation::Verdict::Measured;
+  good.measurable = true;
+  good.walls = {{3.0, 3.004, 0.005}, {4.0, 4.012, 0.005}};  // 1 sigma, then 2.4 sigma
+  good.true_area = 12, good.area = 12.03;
+  room_evaluation::RoomCase refused;
+  refused.verdict = room_evaluation::Verdict::RefusedWrongly;
+  refused.measurable = true;
+  const auto summary = room_evaluation::summarize({good, refused}).back();
+  EXPECT_EQ(summary.category, "all");
+  EXPECT_EQ(summary.rooms, 2u);
+  EXPECT_EQ(summary.measured, 1u);
+  EXPECT_EQ(summary.refused_wrongly, 1u);
+  EXPECT_EQ(summary.within_target, 0u);  // one wall 12 mm off
+  EXPECT_EQ(summary.ok_over_2cm, 0u);
+  EXPECT_NEAR(summary.max_wall_error, 0.012, 1e-9);
+  EXPECT_DOUBLE_EQ(summary.within_1_sigma, 0.5);
+  EXPECT_DOUBLE_EQ(summary.within_2_sigma, 0.5);
+}
