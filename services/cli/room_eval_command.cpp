@@ -4,7 +4,9 @@
 #include <cstdio>
 #include <iostream>
 
+#include "cloud_files.hpp"
 #include "commands.hpp"
+#include "floor_plan.hpp"
 #include "scanbus/room_evaluation/room_evaluation.hpp"
 
 namespace scanbus::cli {
@@ -15,7 +17,19 @@ struct EvalRoomsOptions {
   room_evaluation::SweepOptions sweep;
   bool json = false;
   bool cases = false;
+  std::string out;
 };
+
+// Each room's scan (PCD) and measured floor plan (PNG), named by category and seed.
+void write_cases(const std::string& folder, const std::vector<room_evaluation::RoomCase>& cases) {
+  for (const auto& c : cases) {
+    const std::string name = folder + "/" + sim::category_name(c.category) + "_" + std::to_string(c.seed);
+    std::vector<CloudPoint> points;
+    for (const auto& p : c.cloud) points.push_back({p, 0});
+    write_pcd(name + ".pcd", points);
+    write_floor_plan(name + "_plan.png", c.measurement, name, c.cloud);
+  }
+}
 
 nlohmann::json summary_json(const room_evaluation::SweepSummary& s) {
   nlohmann::json out = {{"category", s.category},
@@ -82,6 +96,7 @@ int run_eval_rooms(const EvalRoomsOptions& options) {
     if (progress) std::printf("\rscanning and measuring room %zu of %zu   ", done, total), std::fflush(stdout);
   });
   if (progress) std::printf("\r%60s\r", "");
+  if (!options.out.empty()) write_cases(options.out, cases);
   const auto summaries = room_evaluation::summarize(cases);
   if (options.json) {
     nlohmann::json out = {{"summary", nlohmann::json::array()}, {"rooms", nlohmann::json::array()}};
@@ -111,6 +126,11 @@ void add_eval_rooms_command(CLI::App& eval, int& exit_code) {
   rooms->add_option("--count", options.sweep.count, "Rooms, spread over the categories")->check(CLI::Range(1, 100000));
   rooms->add_option("--seed", options.sweep.first_seed, "First seed of each category");
   rooms->add_option("--threads", options.sweep.threads, "Worker threads (0: one per core)")->check(CLI::Range(0, 256));
+  rooms->add_flag("--ideal-device", options.sweep.ideal_device,
+                  "Scan with the ideal device of the thesis's equations (2 cm noise, no imperfections)");
+  rooms->add_option("--out", options.out, "Folder for each room's scan (PCD) and measured floor plan (PNG)")
+      ->check(CLI::ExistingDirectory)
+      ->each([](const std::string&) { options.sweep.keep_clouds = true; });
   rooms->add_flag("--cases", options.cases, "Also print a line for every room");
   rooms->add_flag("--json", options.json, "One JSON object (summary and every room), no progress");
   on_run(*rooms, exit_code, [] { return run_eval_rooms(options); });

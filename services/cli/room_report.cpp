@@ -16,12 +16,20 @@ nlohmann::json room_json(const RoomResult& room) {
                      {"distance_m", wall.line.offset},
                      {"rms_m", wall.line.rms},
                      {"inliers", wall.points}});
+  nlohmann::json candidates = nlohmann::json::array();
+  for (const auto& c : room.candidates)
+    candidates.push_back({{"normal", {c.normal.x(), c.normal.y(), 0.0}},
+                          {"distance_m", c.offset},
+                          {"extent_m", {c.start, c.end}},
+                          {"z_m", {c.z_low, c.z_high}},
+                          {"inliers", c.inliers.size()}});
   nlohmann::json corners = nlohmann::json::array();
   for (const auto& corner : room.corners) corners.push_back({corner.x(), corner.y()});
   nlohmann::json out = {{"status", room_measurement::status_name(room.status)},
                         {"message", room.message},
                         {"walls", walls},
                         {"corners", corners},
+                        {"candidates", candidates},
                         {"area_m2", room.area},
                         {"perimeter_m", room.perimeter},
                         {"ceiling_height_m", nullptr},

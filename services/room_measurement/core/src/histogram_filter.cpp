@@ -40,9 +40,12 @@ std::vector<Eigen::Vector3f> histogram_filter(const std::vector<Eigen::Vector3f>
     bin.z_max = std::max(bin.z_max, point.z());
   }
   std::vector<Eigen::Vector3f> kept;
+  const double reference_squared = settings.reference_range * settings.reference_range;
   for (const auto& point : near_removed) {
     const Bin& bin = grid[bin_of(point)];
-    if (bin.count >= settings.min_points && bin.z_max - bin.z_min > settings.min_z_spread) kept.push_back(point);
+    const double thinning = std::min(1.0, reference_squared / point.head<2>().cast<double>().squaredNorm());
+    const double needed = std::max(3.0, settings.min_points * thinning);
+    if (bin.count >= needed && bin.z_max - bin.z_min > settings.min_z_spread) kept.push_back(point);
   }
   return kept;
 }

@@ -62,6 +62,25 @@ void find_floor_and_ceiling(const std::vector<Eigen::Vector3f>& points, const Ro
   if (result.ceiling_z && *result.ceiling_z <= 0) result.ceiling_z.reset();
 }
 
+// The highest surface the scanner sees (the ceiling, else the cloud's top) and its steepest
+// upward ray, from the cloud itself.
+ViewLimits view_limits(const std::vector<Eigen::Vector3f>& points, const RoomResult& result) {
+  ViewLimits view;
+  std::vector<float> heights;
+  const size_t stride = std::max<size_t>(1, points.size() / 50000);
+  double steepest = 0;
+  for (size_t i = 0; i < points.size(); i += stride) {
+    heights.push_back(points[i].z());
+    const double horizontal = points[i].head<2>().norm();
+    if (horizontal > 0.3) steepest = std::max(steepest, points[i].z() / horizontal);
+  }
+  const size_t top = heights.size() * 999 / 1000;  // past a few outliers
+  std::nth_element(heights.begin(), heights.begin() + static_cast<long>(top), heights.end());
+  view.top = result.ceiling_z.value_or(heights[top]);
+  view.tan_elevation = std::max(steepest, 0.05);
+  return view;
+}
+
 // The final fit of a room wall: every filtered point within `band` of its line, away from
 // its ends (where the neighbouring wall's points come within the band), fitted again,
 // twice. RANSAC's inliers are voxel centres cut off at its distance threshold.
@@ -141,6 +160,7 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
   }
   candidates = merge_collinear(std::move(candidates), 3 * M_PI / 180, settings.ransac.distance / 2,
                                3 * settings.ransac.distance);
+  for (auto& wall : candidates) wall.profile = wall_profile(wall, valid, settings.ransac.distance, 0.5);
   result.candidates = candidates;
   if (candidates.size() < 3) {
     result.status = RoomStatus::TooFewWalls;
@@ -148,7 +168,7 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
     return result;
   }
   std::string why;
-  const std::optional<Polygon> polygon = room_polygon(candidates, settings.polygon, why);
+  const std::optional<Polygon> polygon = room_polygon(candidates, view_limits(valid, result), settings.polygon, why);
   if (!polygon) {
     result.status = RoomStatus::WallsDoNotClose;
     result.message = why;
@@ -166,6 +186,9 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
     result.corners.push_back(intersect_lines(before.normal, before.offset, wall.normal, wall.offset));
   }
   measure_lengths(result.walls);
+  for (size_t i = 0; i < count; ++i)
+    result.walls[i].openings = find_openings(result.walls[i].line, result.corners[i], result.corners[(i + 1) % count], valid,
+                                             settings.ransac.distance, settings.opening_beyond, settings.opening_min_width);
   result.area = polygon_area(result.corners);
   for (const auto& wall : result.walls) result.perimeter += wall.length;
   error_histogram(valid, result);
@@ -201,6 +224,7 @@ RoomSettings room_settings_from_config(const Config& section) {
   s.histogram.min_range = histogram.number("min_range", s.histogram.min_range, 0, 100);
   s.histogram.min_points = static_cast<int>(histogram.integer("min_points", s.histogram.min_points, 1, 1000000));
   s.histogram.min_z_spread = histogram.number("min_z_spread", s.histogram.min_z_spread, 0, 100);
+  s.histogram.reference_range = histogram.number("reference_range", s.histogram.reference_range, 0.1, 100);
   s.voxel_leaf = section.number("voxel_leaf", s.voxel_leaf, 0, 10);
   s.density_reference = static_cast<size_t>(section.integer("density_reference", 18560, 0, 1000000000));
   const Config ransac = section.section("ransac");
@@ -217,8 +241,13 @@ RoomSettings room_settings_from_config(const Config& section) {
   s.polygon.min_wall_angle_deg = polygon.number("min_wall_angle", s.polygon.min_wall_angle_deg, 1, 89);
   s.polygon.min_run_deg = polygon.number("min_run", s.polygon.min_run_deg, 0, 90);
   s.polygon.max_gap_deg = polygon.number("max_gap", s.polygon.max_gap_deg, 0, 180);
-  s.polygon.extent_tolerance = polygon.number("extent_tolerance", s.polygon.extent_tolerance, 0, 10);
   s.polygon.corner_margin = polygon.number("corner_margin", s.polygon.corner_margin, 0, 100);
+  s.polygon.extent_tolerance = polygon.number("extent_tolerance", s.polygon.extent_tolerance, 0, 10);
+  s.polygon.support_reach = polygon.number("support_reach", s.polygon.support_reach, 0.01, 10);
+  s.polygon.top_margin = polygon.number("top_margin", s.polygon.top_margin, 0, 10);
+  s.polygon.top_band = polygon.number("top_band", s.polygon.top_band, 0.01, 10);
+  s.opening_min_width = section.number("opening_min_width", s.opening_min_width, 0.01, 100);
+  s.opening_beyond = section.number("opening_beyond", s.opening_beyond, 0.01, 100);
   return s;
 }
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace scanbus::room_measurement {
 
@@ -33,10 +34,20 @@ bool segments_cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Ei
   return ((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0));
 }
 
-// Two neighbours in the turn that are parallel cannot meet in a corner. When one stands
-// nearer the scanner it is an object in front of the other (a tall wardrobe hides the
-// wall behind it from the filter): drop it, so the wall behind meets its true neighbours.
-void drop_occluders(const std::vector<WallLine>& walls, double min_sine, std::vector<size_t>& order) {
+// Two neighbours in the turn that are parallel cannot meet in a corner. When the nearer one
+// does not reach the top of the view it is furniture in front of the other (a wardrobe whose
+// wall above it the histogram filter dropped): drop it, so the wall behind meets its true
+// neighbours. A nearer one that reaches the top is a wall: the wall between them is missing.
+// Whether a wall has points just below the top of the view anywhere along it (furniture has none).
+bool reaches_top(const WallLine& wall, const ViewLimits& view, const PolygonSettings& settings) {
+  const double top = std::min(view.top, wall.offset * view.tan_elevation) - settings.top_margin;
+  const double middle = (wall.start + wall.end) / 2, half = (wall.end - wall.start) / 2;
+  return wall.profile.has_points(middle, half, top - settings.top_band, top);
+}
+
+void drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
+                    std::vector<size_t>& order) {
+  const double min_sine = std::sin(settings.min_wall_angle_deg * M_PI / 180);
   bool changed = true;
   while (changed && order.size() >= 3) {
     changed = false;
@@ -45,7 +56,9 @@ void drop_occluders(const std::vector<WallLine>& walls, double min_sine, std::ve
       const WallLine& a = walls[order[i]];
       const WallLine& b = walls[order[next]];
       if (std::abs(cross(a.normal, b.normal)) >= min_sine || a.normal.dot(b.normal) < 0) continue;
-      order.erase(order.begin() + static_cast<long>(a.offset < b.offset ? i : next));
+      const size_t nearer = a.offset < b.offset ? i : next;
+      if (reaches_top(walls[order[nearer]], view, settings)) continue;  // a wall (an alcove's side is missing)
+      order.erase(order.begin() + static_cast<long>(nearer));
       changed = true;
     }
     // Dropping one may leave the same wall on both sides of the gap.
@@ -119,24 +132,77 @@ std::vector<WallLine> merge_collinear(std::vector<WallLine> walls, double angle,
   return walls;
 }
 
-std::optional<Polygon> room_polygon(const std::vector<WallLine>& walls, const PolygonSettings& settings,
-                                    std::string& why) {
-  // The farthest wall in each direction, a quarter of a degree at a time.
+bool WallProfile::has_points(double along, double reach, double z_low, double z_high) const {
+  uint64_t wanted = ~0ULL;  // the height cells between z_low and z_high
+  if (z_low > -1e8) {
+    // Only cells wholly above z_low: a cell reaching below it may hold just points under it.
+    const long low = std::clamp(static_cast<long>(std::ceil((z_low - base) / cell)), 0L, 64L);
+    const long high = std::clamp(static_cast<long>(std::floor((z_high - base) / cell)), -1L, 63L);
+    if (high < low) return false;
+    wanted = (high - low == 63 ? ~0ULL : ((1ULL << (high - low + 1)) - 1)) << low;
+  }
+  const long first = std::max(0L, static_cast<long>(std::floor((along - reach - origin) / slot)));
+  const long last = std::min(static_cast<long>(cells.size()) - 1, static_cast<long>(std::floor((along + reach - origin) / slot)));
+  for (long i = first; i <= last; ++i)
+    if (cells[static_cast<size_t>(i)] & wanted) return true;
+  return false;
+}
+
+WallProfile wall_profile(const WallLine& wall, const std::vector<Eigen::Vector3f>& points, double band, double margin) {
+  WallProfile profile;
+  profile.origin = wall.start - margin;
+  const auto slots = static_cast<size_t>(std::ceil((wall.end - wall.start + 2 * margin) / profile.slot)) + 1;
+  profile.cells.assign(slots, 0);
+  const Eigen::Vector2f normal = wall.normal.cast<float>(), direction = wall.direction().cast<float>();
+  std::vector<std::pair<size_t, float>> near;  // slot, height
+  float low = std::numeric_limits<float>::max(), high = std::numeric_limits<float>::lowest();
+  for (const auto& p : points) {
+    if (std::abs(normal.dot(p.head<2>()) - static_cast<float>(wall.offset)) > band) continue;
+    const double slot = std::floor((direction.dot(p.head<2>()) - profile.origin) / profile.slot);
+    if (slot < 0 || slot >= static_cast<double>(slots)) continue;
+    near.emplace_back(static_cast<size_t>(slot), p.z());
+    low = std::min(low, p.z());
+    high = std::max(high, p.z());
+  }
+  if (near.empty()) return profile;
+  profile.base = low;
+  profile.cell = std::max(0.05, (high - low) / 63.9);
+  for (const auto& [slot, z] : near) profile.cells[slot] |= 1ULL << std::min(63, static_cast<int>((z - low) / profile.cell));
+  return profile;
+}
+
+std::optional<Polygon> room_polygon(const std::vector<WallLine>& walls, const ViewLimits& view,
+                                    const PolygonSettings& settings, std::string& why) {
+  // The nearest enclosing wall in each direction, a quarter of a degree at a time. A wall
+  // that does not reach the top of the view is furniture when a wall stands behind it.
   constexpr int kSteps = 1440;
   std::vector<int> seen(kSteps, -1);
+  struct Hit {
+    double t;
+    int wall;
+  };
+  std::vector<Hit> hits;
   for (int step = 0; step < kSteps; ++step) {
     const double angle = 2 * M_PI * step / kSteps;
     const Eigen::Vector2d ray(std::cos(angle), std::sin(angle));
-    double farthest = 0;
+    hits.clear();
     for (size_t w = 0; w < walls.size(); ++w) {
       const double facing = walls[w].normal.dot(ray);
       if (facing < 1e-6) continue;
       const double t = walls[w].offset / facing;
       const double along = walls[w].direction().dot(t * ray);
       if (along < walls[w].start - settings.extent_tolerance || along > walls[w].end + settings.extent_tolerance) continue;
-      if (t > farthest) {
-        farthest = t;
-        seen[step] = static_cast<int>(w);
+      if (walls[w].profile.has_points(along, settings.support_reach)) hits.push_back({t, static_cast<int>(w)});
+    }
+    if (hits.empty()) continue;
+    std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) { return a.t < b.t; });
+    seen[step] = hits.back().wall;  // nothing reaches the top: the farthest, as furniture stands in front
+    for (const Hit& hit : hits) {
+      const double top = std::min(view.top, hit.t * view.tan_elevation) - settings.top_margin;
+      const double along = walls[hit.wall].direction().dot(hit.t * ray);
+      if (walls[hit.wall].profile.has_points(along, settings.support_reach, top - settings.top_band, top)) {
+        seen[step] = hit.wall;
+        break;
       }
     }
   }
@@ -169,7 +235,7 @@ std::optional<Polygon> room_polygon(const std::vector<WallLine>& walls, const Po
     polygon.walls.push_back(static_cast<size_t>(wall));
   }
   if (polygon.walls.size() > 1 && polygon.walls.front() == polygon.walls.back()) polygon.walls.pop_back();
-  drop_occluders(walls, std::sin(settings.min_wall_angle_deg * M_PI / 180), polygon.walls);
+  drop_occluders(walls, view, settings, polygon.walls);
   if (polygon.walls.size() < 3) {
     why = "only " + std::to_string(polygon.walls.size()) + " walls around the scanner: not a room";
     return std::nullopt;
@@ -211,6 +277,40 @@ std::optional<Polygon> room_polygon(const std::vector<WallLine>& walls, const Po
       }
     }
   return polygon;
+}
+
+std::vector<Opening> find_openings(const WallLine& wall, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                                   const std::vector<Eigen::Vector3f>& points, double band, double beyond, double min_width) {
+  constexpr double kSlot = 0.05;  // m
+  const double length = (b - a).norm();
+  if (!(length >= kSlot)) return {};
+  const Eigen::Vector2d along = (b - a) / length;
+  const auto slots = static_cast<size_t>(std::ceil(length / kSlot));
+  std::vector<int> on(slots, 0), past(slots, 0);
+  for (const auto& p : points) {
+    const Eigen::Vector2d xy = p.head<2>().cast<double>();
+    const double distance = wall.normal.dot(xy) - wall.offset;  // > 0 beyond the wall
+    if (distance < -band || wall.normal.dot(xy) < 1e-6) continue;
+    const Eigen::Vector2d crossing = xy * (wall.offset / wall.normal.dot(xy));  // where its ray meets the line
+    const double s = along.dot(crossing - a);
+    if (!(s >= 0 && s < length)) continue;
+    const auto slot = std::min(slots - 1, static_cast<size_t>(s / kSlot));
+    if (distance <= band) ++on[slot];
+    if (distance > beyond) ++past[slot];
+  }
+  std::vector<Opening> openings;
+  for (size_t i = 0; i < slots;) {
+    if (past[i] <= on[i]) {
+      ++i;
+      continue;
+    }
+    size_t j = i;
+    while (j < slots && past[j] > on[j]) ++j;
+    const double width = (j - i) * kSlot;
+    if (width >= min_width) openings.push_back({i * kSlot, std::min(width, length - i * kSlot)});
+    i = j;
+  }
+  return openings;
 }
 
 Eigen::Vector2d intersect_lines(const Eigen::Vector2d& na, double oa, const Eigen::Vector2d& nb, double ob) {

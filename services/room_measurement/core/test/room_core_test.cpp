@@ -39,12 +39,21 @@ TEST(HistogramFilter, KeepsDenseTallBinsOnly) {
   std::vector<Eigen::Vector3f> points;
   for (float z = -1.2f; z <= 1.3f; z += 0.05f) points.emplace_back(3.0f, 0.0f, z);  // a wall column: kept
   for (float x = -3; x <= 3; x += 0.5f) points.emplace_back(x, 2.0f, -1.2f);       // floor: flat, dropped
-  for (float z = -1.0f; z <= 1.0f; z += 0.05f) points.emplace_back(0.5f, 0.0f, z);  // too near: dropped
+  for (float z = -0.25f; z <= 0.25f; z += 0.05f) points.emplace_back(0.1f, 0.0f, z);  // within 0.3 m: dropped
   points.emplace_back(-3.0f, -3.0f, 1.0f);                                          // lone point: dropped
   const auto kept = histogram_filter(points, HistogramFilterSettings{});
   ASSERT_FALSE(kept.empty());
   for (const auto& p : kept) EXPECT_FLOAT_EQ(p.x(), 3.0f);
   EXPECT_EQ(kept.size(), 51u);
+}
+
+TEST(HistogramFilter, FartherBinsNeedFewerPoints) {
+  std::vector<Eigen::Vector3f> points;
+  for (float z = -1.2f; z <= 1.3f; z += 0.5f) points.emplace_back(6.0f, 0.0f, z);   // 6 points, 6 m out: kept
+  for (float z = -1.2f; z <= 1.3f; z += 0.5f) points.emplace_back(-1.5f, 0.0f, z);  // 6 points, 1.5 m: dropped
+  const auto kept = histogram_filter(points, HistogramFilterSettings{});
+  ASSERT_EQ(kept.size(), 6u);
+  for (const auto& p : kept) EXPECT_FLOAT_EQ(p.x(), 6.0f);
 }
 
 TEST(RoomMeasurement, RectangleWithCornersAndArea) {

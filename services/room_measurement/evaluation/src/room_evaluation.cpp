@@ -119,7 +119,8 @@ double RoomCase::max_wall_error() const {
   return worst;
 }
 
-RoomCase evaluate_room(const sim::GeneratedRoom& generated, const room_measurement::RoomSettings& settings) {
+RoomCase evaluate_room(const sim::GeneratedRoom& generated, const room_measurement::RoomSettings& settings,
+                       bool keep_cloud) {
   const sim::RoomModel& room = generated.room;
   RoomCase c;
   c.category = generated.category;
@@ -137,9 +138,11 @@ RoomCase evaluate_room(const sim::GeneratedRoom& generated, const room_measureme
   }
   SimulatedScanSettings scan;
   scan.hardware = generated.hardware;
-  const auto points = simulated_scan(room, scan);
-  const auto result = room_measurement::measure_room(points, settings);
+  auto points = simulated_scan(room, scan);
+  c.measurement = room_measurement::measure_room(points, settings);
+  const auto& result = c.measurement;
   c.points = points.size();
+  if (keep_cloud) c.cloud = std::move(points);
   c.status = result.status;
   c.message = result.message;
   c.elapsed_ms = result.elapsed_ms;
@@ -166,14 +169,20 @@ std::vector<RoomCase> evaluate_sweep(const SweepOptions& options, const room_mea
   std::vector<sim::GeneratedRoom> rooms;
   const int per_category = std::max(1, static_cast<int>((options.count + categories.size() - 1) / categories.size()));
   for (auto category : categories)
-    for (int i = 0; i < per_category; ++i)
+    for (int i = 0; i < per_category; ++i) {
       rooms.push_back(sim::generate_room(category, options.first_seed + static_cast<unsigned>(i)));
+      if (options.ideal_device) {
+        sim::HardwareSettings ideal;
+        ideal.seed = rooms.back().hardware.seed;
+        rooms.back().hardware = ideal;
+      }
+    }
   std::vector<RoomCase> cases(rooms.size());
   std::atomic<size_t> next{0}, done{0};
   std::mutex report;
   auto work = [&] {
     for (size_t i; (i = next++) < rooms.size();) {
-      cases[i] = evaluate_room(rooms[i], settings);
+      cases[i] = evaluate_room(rooms[i], settings, options.keep_clouds);
       const size_t finished = ++done;
       if (progress) {
         const std::lock_guard<std::mutex> lock(report);

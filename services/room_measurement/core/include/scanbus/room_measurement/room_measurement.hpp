@@ -30,6 +30,8 @@ struct RoomSettings {
                                    // clutter that happens to line up (walls hidden in part by tall
                                    // furniture keep less than half, so not more)
   PolygonSettings polygon;
+  double opening_min_width = 0.3;  // m: narrower gaps with returns beyond are not doors or windows
+  double opening_beyond = 0.2;     // m past the wall's line a return must lie to be seen through it
   size_t max_horizontal_samples = 50000;  // floor and ceiling are found on a subsample
 };
 
@@ -45,6 +47,7 @@ struct MeasuredWall {
   size_t points = 0;        // inliers of the final fit
   double length = 0;        // m, corner to corner
   double length_sigma = 0;  // m, from the offsets' standard errors of this wall and its neighbours
+  std::vector<Opening> openings;  // doors and windows seen through, along the wall from corners[i]
 };
 
 struct RoomResult {

@@ -3,11 +3,24 @@
 
 #include <Eigen/Core>
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace scanbus::room_measurement {
+
+// Where along its line a wall has points of the whole cloud (any height, before the
+// histogram filter drops short columns such as the wall above a door), and at which heights.
+struct WallProfile {
+  double origin = 0;        // along-position of slot 0, m
+  double slot = 0.05;       // m
+  double base = 0, cell = 0.05;  // m: heights in 64 cells from base
+  std::vector<uint64_t> cells;   // per slot, a bit for each height cell holding a point
+
+  // Whether a slot within `reach` of an along-position holds a point (between z_low and z_high).
+  bool has_points(double along, double reach, double z_low = -1e9, double z_high = 1e9) const;
+};
 
 // A vertical wall: normal . (x, y) = offset, normal pointing away from the scanner.
 struct WallLine {
@@ -20,6 +33,7 @@ struct WallLine {
   double z_coverage = 0;      // share of 10 cm height slices between z_low and z_high holding inliers
   double length_coverage = 0; // share of 10 cm slots between start and end holding inliers
   std::vector<Eigen::Vector3f> inliers;
+  WallProfile profile;
 
   Eigen::Vector2d direction() const { return {-normal.y(), normal.x()}; }
 };
@@ -33,6 +47,10 @@ WallLine fit_wall(std::vector<Eigen::Vector3f> inliers);
 // within `tail` of it is the stronger one's noise beyond the RANSAC band: dropped.
 std::vector<WallLine> merge_collinear(std::vector<WallLine> walls, double angle, double same, double tail);
 
+// The wall's profile from every point within `band` of its line, over its extent and `margin`
+// beyond each end.
+WallProfile wall_profile(const WallLine& wall, const std::vector<Eigen::Vector3f>& points, double band, double margin);
+
 struct Polygon {
   std::vector<size_t> walls;               // indices into the candidates, in order around the room
   std::vector<Eigen::Vector2d> corners;    // corners[i] joins walls[i-1] and walls[i]
@@ -42,15 +60,39 @@ struct PolygonSettings {
   double min_wall_angle_deg = 30;  // neighbours closer to parallel than this cannot meet in a corner
   double min_run_deg = 2;          // a wall seen over less of the turn is clutter
   double max_gap_deg = 40;         // a wider sector with no wall is an open side, not a doorway: no room
-  double extent_tolerance = 0.05;  // m: rays just past a wall's inlier extent still hit it
   double corner_margin = 1.0;      // m around the points where corners may lie (Algorithm 2)
+  double extent_tolerance = 0.05;  // m: rays just past a wall's inlier extent still hit it
+  double support_reach = 0.10;     // m: a ray meets a wall only where the wall has points this near
+  double top_margin = 0.12;        // m: a wall has points just below the highest surface the scanner
+                                   // sees there (from top - top_margin - top_band to top - top_margin;
+                                   // not at the top, where the ceiling's own points lie); furniture
+  double top_band = 0.25;          // in front of a wall has none there
 };
 
-// The room's walls in order: turning once around the scanner (the origin), the farthest
-// wall hit in each direction is the room's (furniture stands in front of walls); then
-// neighbours are intersected. Fails with a message when the walls do not close a room.
-std::optional<Polygon> room_polygon(const std::vector<WallLine>& walls, const PolygonSettings& settings,
-                                    std::string& why);
+// What the scanner can see above it: the ceiling (or the cloud's top) and its steepest upward
+// ray. A surface at horizontal distance t shows up to min(top, t * tan_elevation).
+struct ViewLimits {
+  double top = 0;            // m above the scanner
+  double tan_elevation = 1;  // of the steepest upward ray
+};
+
+// An opening in a wall: returns seen beyond its line through a gap in it (a door, a window).
+struct Opening {
+  double start = 0, width = 0;  // m along the wall from its first corner
+};
+
+// The room's walls in order: turning once around the scanner (the origin), the room's wall in
+// each direction is the nearest wall the ray meets where the wall has points (the wall above a
+// door counts: what is seen through the door is outside) and that reaches the top of what the
+// scanner sees there (furniture in front of a wall does not); then neighbours are intersected.
+// Fails with a message when the walls do not close a room.
+std::optional<Polygon> room_polygon(const std::vector<WallLine>& walls, const ViewLimits& view,
+                                    const PolygonSettings& settings, std::string& why);
+
+// Openings along the wall from corner a to corner b: runs of at least `min_width` where more
+// points lie beyond the wall's line (by `beyond`) than on it.
+std::vector<Opening> find_openings(const WallLine& wall, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                                   const std::vector<Eigen::Vector3f>& points, double band, double beyond, double min_width);
 
 double polygon_area(const std::vector<Eigen::Vector2d>& corners);
 

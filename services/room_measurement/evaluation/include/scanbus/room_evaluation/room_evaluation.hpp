@@ -41,17 +41,23 @@ struct RoomCase {
   std::optional<double> true_ceiling_height, ceiling_height;
   size_t points = 0;
   double elapsed_ms = 0;
+  std::vector<Eigen::Vector3f> cloud;       // the scan, when SweepOptions::keep_clouds
+  room_measurement::RoomResult measurement; // the whole result, for its plan
 
   double max_wall_error() const;  // m, absolute; 0 without matched walls
 };
 
 // Scans and measures one generated room.
-RoomCase evaluate_room(const sim::GeneratedRoom& room, const room_measurement::RoomSettings& settings);
+RoomCase evaluate_room(const sim::GeneratedRoom& room, const room_measurement::RoomSettings& settings,
+                       bool keep_cloud = false);
 
 struct SweepOptions {
   int count = 120;        // rooms, spread evenly over the categories
   unsigned first_seed = 1;
   int threads = 0;        // 0: one per core
+  bool keep_clouds = false;   // keep each room's scan in its RoomCase (to write it out)
+  bool ideal_device = false;  // scan with the device the thesis's equations assume (2 cm noise, no
+                              // imperfections): tells the room's geometry from the device's errors
 };
 
 // Every room of the sweep, in category-then-seed order; `progress(done, total)` after each.

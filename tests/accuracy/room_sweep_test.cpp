@@ -1,0 +1,31 @@
+// The room measurement on the seeded sweep of `scanbus eval rooms` (120 rooms, 12 categories,
+// each with a device's imperfections). Guards what holds today (docs/room_evaluation.md); the
+// issue's targets (every wall within 1 cm, calibrated sigmas) are not met yet and are not
+// asserted here.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "scanbus/room_evaluation/room_evaluation.hpp"
+
+using namespace scanbus;
+
+TEST(RoomSweep, WhatHoldsOnTheSweep) {
+  room_evaluation::SweepOptions options;
+  const auto cases = room_evaluation::evaluate_sweep(options, room_measurement::RoomSettings{});
+  ASSERT_EQ(cases.size(), 120u);
+  for (const auto& s : room_evaluation::summarize(cases)) {
+    std::printf("%-15s rooms %zu seen %zu measured %zu wrong %zu refused %zu/%zu median %.4f p95 %.4f max %.4f m\n",
+                s.category.c_str(), s.rooms, s.measurable, s.measured, s.wrong, s.refused, s.refused_wrongly,
+                s.median_wall_error, s.p95_wall_error, s.max_wall_error);
+    // Closed rooms, rooms with windows or angled walls, a scanner in a corner: every one measured.
+    if (s.category == "box" || s.category == "windows" || s.category == "angled" || s.category == "near_wall")
+      EXPECT_EQ(s.measured, s.rooms) << s.category;
+    if (s.category == "doors") EXPECT_GE(s.measured, 8u) << "doors: what is seen through a door is outside";
+    if (s.category != "all") continue;
+    EXPECT_GE(s.measured, 60u);
+    EXPECT_LE(s.wrong, 15u) << "rooms given status ok with walls that are not the room's";
+    EXPECT_LT(s.median_wall_error, 0.012);
+    EXPECT_LT(s.max_wall_error, 0.05);
+  }
+}
