@@ -31,6 +31,35 @@ void measure_lengths(std::vector<MeasuredWall>& walls) {
   }
 }
 
+// The walls, corners, lengths and area fitted together with the device's errors.
+void adjust(const AdjustmentSettings& settings, RoomResult& result) {
+  // Floor and ceiling points within a wall's band lie on other planes: they would pull the
+  // device terms (a wall's plane is the model). Without a floor or ceiling, 10 cm of the
+  // wall's own height range goes at that end.
+  std::vector<WallLine> lines;
+  for (const auto& wall : result.walls) {
+    WallLine line = wall.line;
+    const float low = static_cast<float>(result.floor_z.value_or(wall.line.z_low) + 0.1);
+    const float high = static_cast<float>(result.ceiling_z.value_or(wall.line.z_high) - 0.1);
+    line.inliers.erase(std::remove_if(line.inliers.begin(), line.inliers.end(),
+                                      [&](const Eigen::Vector3f& p) { return p.z() < low || p.z() > high; }),
+                       line.inliers.end());
+    lines.push_back(std::move(line));
+  }
+  const AdjustedWalls adjusted = adjust_walls(lines, settings);
+  for (size_t i = 0; i < result.walls.size(); ++i) {
+    result.walls[i].line.normal = adjusted.normals[i];
+    result.walls[i].line.offset = adjusted.offsets[i];
+    result.walls[i].length = adjusted.lengths[i];
+    result.walls[i].length_sigma = adjusted.length_sigmas[i];
+  }
+  result.corners = adjusted.corners;
+  result.area = adjusted.area;
+  result.area_sigma = adjusted.area_sigma;
+  result.range_bias = adjusted.range_bias;
+  result.lever_arm = adjusted.lever_arm;
+}
+
 // The floor is a horizontal plane among the lowest points, the ceiling among the highest:
 // one RANSAC plane in a band at each end of the height range (tables, beds and sofa tops
 // stand higher than the floor's band, and hold more points than the floor can from a
@@ -186,10 +215,11 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
     result.corners.push_back(intersect_lines(before.normal, before.offset, wall.normal, wall.offset));
   }
   measure_lengths(result.walls);
+  if (settings.adjustment.enabled) adjust(settings.adjustment, result);
   for (size_t i = 0; i < count; ++i)
     result.walls[i].openings = find_openings(result.walls[i].line, result.corners[i], result.corners[(i + 1) % count], valid,
                                              settings.ransac.distance, settings.opening_beyond, settings.opening_min_width);
-  result.area = polygon_area(result.corners);
+  if (!settings.adjustment.enabled) result.area = polygon_area(result.corners);
   for (const auto& wall : result.walls) result.perimeter += wall.length;
   error_histogram(valid, result);
   result.message = std::to_string(result.walls.size()) + " walls";
@@ -246,6 +276,14 @@ RoomSettings room_settings_from_config(const Config& section) {
   s.polygon.support_reach = polygon.number("support_reach", s.polygon.support_reach, 0.01, 10);
   s.polygon.top_margin = polygon.number("top_margin", s.polygon.top_margin, 0, 10);
   s.polygon.top_band = polygon.number("top_band", s.polygon.top_band, 0.01, 10);
+  const Config adjustment = section.section("adjustment");
+  s.adjustment.enabled = adjustment.flag("enabled", s.adjustment.enabled);
+  s.adjustment.estimate_device = adjustment.flag("estimate_device", s.adjustment.estimate_device);
+  s.adjustment.pitch_bin_deg = adjustment.number("pitch_bin", s.adjustment.pitch_bin_deg, 0.01, 90);
+  s.adjustment.range_bias_prior = adjustment.number("range_bias_prior", s.adjustment.range_bias_prior, 1e-4, 10);
+  s.adjustment.lever_arm_prior = adjustment.number("lever_arm_prior", s.adjustment.lever_arm_prior, 1e-4, 10);
+  s.adjustment.pitch_error_prior_deg = adjustment.number("pitch_error_prior", s.adjustment.pitch_error_prior_deg, 1e-3, 45);
+  s.adjustment.bootstrap = static_cast<int>(adjustment.integer("bootstrap", s.adjustment.bootstrap, 0, 100000));
   s.opening_min_width = section.number("opening_min_width", s.opening_min_width, 0.01, 100);
   s.opening_beyond = section.number("opening_beyond", s.opening_beyond, 0.01, 100);
   return s;

@@ -145,3 +145,69 @@ TEST(RoomSettings, FromConfigWithValidation) {
   const auto bad = scanbus::Config::parse("room_measurement:\n  ransac: {distance: -1}\n", "r.yaml");
   EXPECT_THROW(room_settings_from_config(bad.section("room_measurement")), scanbus::ConfigError);
 }
+
+namespace {
+
+// A scanner at the origin, pitch 42-120 degrees in 1-degree steps, yaw in 0.5-degree steps, in
+// a box room; each range seen `bias` long and each pitch `pitch_error` off, no noise.
+std::vector<WallLine> scanned_box_walls(double bias, double pitch_error, double lever_arm, double noise = 0) {
+  std::mt19937 random(7);
+  std::normal_distribution<double> jitter(0, noise > 0 ? noise : 1);
+  const double x0 = -2, x1 = 3, y0 = -1.5, y1 = 2, floor = -1.2, ceiling = 1.3;
+  std::vector<WallLine> walls(4);
+  const Eigen::Vector2d normals[4] = {{0, -1}, {1, 0}, {0, 1}, {-1, 0}};
+  const double offsets[4] = {-y0, x1, y1, -x0};
+  for (double pitch_deg = 42; pitch_deg <= 120; pitch_deg += 1)
+    for (double yaw_deg = 0; yaw_deg < 360; yaw_deg += 0.5) {
+      const double pitch = (pitch_deg + pitch_error) * M_PI / 180, yaw = yaw_deg * M_PI / 180;
+      const Eigen::Vector3d d(std::cos(yaw) * std::sin(pitch), std::sin(yaw) * std::sin(pitch), std::cos(pitch));
+      const Eigen::Vector3d up(-std::cos(yaw) * std::cos(pitch), -std::sin(yaw) * std::cos(pitch), std::sin(pitch));
+      const Eigen::Vector3d origin = lever_arm * up;
+      double best = 1e9;
+      int hit = -1;
+      for (int k = 0; k < 4; ++k) {
+        const double facing = normals[k].dot(d.head<2>());
+        if (facing <= 1e-9) continue;
+        const double t = (offsets[k] - normals[k].dot(origin.head<2>())) / facing;
+        if (t < best) best = t, hit = k;
+      }
+      const double z = origin.z() + best * d.z();
+      if (hit < 0 || z < floor || z > ceiling) continue;
+      const double reported_pitch = pitch_deg * M_PI / 180;
+      const Eigen::Vector3d u(std::cos(yaw) * std::sin(reported_pitch), std::sin(yaw) * std::sin(reported_pitch),
+                              std::cos(reported_pitch));
+      const double range = std::round((best + bias + (noise > 0 ? jitter(random) : 0.0)) * 100) / (noise > 0 ? 100 : 1e9) ;
+      walls[static_cast<size_t>(hit)].inliers.push_back(((noise > 0 ? range : best + bias) * u).cast<float>());
+    }
+  for (auto& wall : walls) wall = fit_wall(wall.inliers);
+  return walls;
+}
+
+}  // namespace
+
+TEST(WallAdjustment, RecoversRangeBiasLeverArmAndPitchErrors) {
+  for (const auto& [bias, pitch_error, lever_arm] : {std::tuple{0.0, 0.0, 0.0}, std::tuple{0.01, 0.0, 0.0},
+                                                     std::tuple{0.0, 0.4, 0.0}, std::tuple{0.0, 0.0, 0.03},
+                                                     std::tuple{-0.01, -0.3, 0.02}}) {
+    AdjustmentSettings settings;
+    settings.bootstrap = 0;
+    settings.estimate_device = true;
+    const auto adjusted = adjust_walls(scanned_box_walls(bias, pitch_error, lever_arm), settings);
+    const double truth[4] = {5.0, 3.5, 5.0, 3.5};
+    for (size_t i = 0; i < 4; ++i)
+      EXPECT_NEAR(adjusted.lengths[i], truth[(i + 1) % 4 == 0 ? 3 : i], 0.002)
+          << "bias " << bias << " pitch " << pitch_error << " lever " << lever_arm << " wall " << i;
+    EXPECT_NEAR(adjusted.range_bias, -bias, 0.002);
+  }
+}
+
+TEST(WallAdjustment, NoiseDoesNotBiasIt) {
+  AdjustmentSettings settings;
+  settings.bootstrap = 0;
+  settings.estimate_device = true;
+  const auto adjusted = adjust_walls(scanned_box_walls(0, 0, 0, 0.02), settings);
+  const double truth[4] = {5.0, 3.5, 5.0, 3.5};
+  for (size_t i = 0; i < 4; ++i) EXPECT_NEAR(adjusted.lengths[i], truth[i], 0.003) << i;
+  EXPECT_NEAR(adjusted.range_bias, 0, 0.002);
+  EXPECT_NEAR(adjusted.lever_arm, 0, 0.005);
+}

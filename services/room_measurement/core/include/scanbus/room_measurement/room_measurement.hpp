@@ -12,6 +12,7 @@
 #include "scanbus/config.hpp"
 #include "scanbus/room_measurement/histogram_filter.hpp"
 #include "scanbus/room_measurement/planes.hpp"
+#include "scanbus/room_measurement/wall_adjustment.hpp"
 #include "scanbus/room_measurement/walls.hpp"
 
 namespace scanbus::room_measurement {
@@ -30,6 +31,7 @@ struct RoomSettings {
                                    // clutter that happens to line up (walls hidden in part by tall
                                    // furniture keep less than half, so not more)
   PolygonSettings polygon;
+  AdjustmentSettings adjustment;
   double opening_min_width = 0.3;  // m: narrower gaps with returns beyond are not doors or windows
   double opening_beyond = 0.2;     // m past the wall's line a return must lie to be seen through it
   size_t max_horizontal_samples = 50000;  // floor and ceiling are found on a subsample
@@ -46,7 +48,7 @@ struct MeasuredWall {
   WallLine line;
   size_t points = 0;        // inliers of the final fit
   double length = 0;        // m, corner to corner
-  double length_sigma = 0;  // m, from the offsets' standard errors of this wall and its neighbours
+  double length_sigma = 0;  // m, one sigma (the wall adjustment's, else the offsets' standard errors)
   std::vector<Opening> openings;  // doors and windows seen through, along the wall from corners[i]
 };
 
@@ -58,6 +60,7 @@ struct RoomResult {
   std::vector<Eigen::Vector2d> corners;   // corners[i] joins walls[i-1] and walls[i]
   double area = 0, perimeter = 0;
   double area_sigma = 0;  // m^2, one sigma
+  double range_bias = 0, lever_arm = 0;  // m: the device's errors the wall adjustment estimated
   std::optional<double> floor_z, ceiling_z;
   size_t points_in = 0, points_valid = 0, points_after_filter = 0, points_after_voxel = 0;
   bool voxel_overflow = false;

@@ -1,0 +1,51 @@
+// The room's walls fitted together with the scanner's own errors, and their uncertainty.
+//
+// Walls are planes, so errors of the device bend every wall the same way: a range bias moves
+// each point along its ray, a lever arm (the LiDAR's optical centre off the pitch axis) and a
+// pitch error move it across. All are linear in small corrections, so one least-squares
+// adjustment estimates each wall's line (offset and a small turn), the range bias, the lever
+// arm and the servo's pitch offset from the walls' inliers (a pitch error per servo step made
+// the walls of small rooms ill-determined: the steps' own errors are left to the bootstrap). A point's ray
+// follows from its position: the scanner is at the origin and its pitch counts from the
+// vertical (the thesis's eq. 3.10-3.12).
+//
+// Uncertainty: a bootstrap over pitch bins (whole revolutions, whose errors are shared) gives
+// the spread of lengths and area that noise and neighbouring points' correlation leave; the
+// device terms (estimated or held at zero) add their own sigma, each propagated to the walls.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <vector>
+
+#include "scanbus/room_measurement/walls.hpp"
+
+namespace scanbus::room_measurement {
+
+struct AdjustmentSettings {
+  bool enabled = true;
+  bool estimate_device = false;        // also estimate range bias, lever arm and pitch offset: off, as on
+                                       // the sweep it did not lower the wall errors (docs/room_evaluation.md)
+  double pitch_bin_deg = 1.0;          // the bootstrap's unit: rays within a bin share a servo step's error
+  // The device's errors, one sigma (priors when estimated; added to the sigmas when not):
+  double range_bias_prior = 0.01;      // m: a LIDAR-Lite v3 offset-calibrated at one distance, to its 1 cm resolution
+  double lever_arm_prior = 0.02;       // m: the optical centre's height over the pitch axis, uncalibrated
+                                       // (the LiDAR's housing is 4 cm high)
+  double pitch_error_prior_deg = 0.5;  // a standard servo's offset: half its 1-degree resolution
+  int bootstrap = 100;                 // replicates; 0 skips the uncertainty
+};
+
+struct AdjustedWalls {
+  std::vector<Eigen::Vector2d> normals;  // per wall, in room order
+  std::vector<double> offsets;
+  std::vector<Eigen::Vector2d> corners;  // corners[i] joins walls[i-1] and walls[i]
+  std::vector<double> lengths, length_sigmas;
+  double area = 0, area_sigma = 0;
+  double range_bias = 0, lever_arm = 0;  // m: the corrections estimated (added to the range; along "up")
+  double pitch_offset = 0;               // rad, added to the reported pitch
+};
+
+// `walls` in room order with their inliers. Throws std::invalid_argument when fewer than 3.
+AdjustedWalls adjust_walls(const std::vector<WallLine>& walls, const AdjustmentSettings& settings);
+
+}  // namespace scanbus::room_measurement
