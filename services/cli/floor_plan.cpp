@@ -75,6 +75,21 @@ void write_floor_plan(const std::string& path, const room_measurement::RoomResul
     cairo_move_to(cr, px(a.x()), py(a.y()));
     cairo_line_to(cr, px(b.x()), py(b.y()));
     cairo_stroke(cr);
+    // Openings (doors, windows seen through) as white gaps with a thin outline of the wall.
+    const Eigen::Vector2d along = (b - a).normalized();
+    for (const auto& opening : room.walls[w].openings) {
+      const Eigen::Vector2d from = a + along * opening.start, to = from + along * opening.width;
+      cairo_set_source_rgb(cr, 1, 1, 1);
+      cairo_set_line_width(cr, 5);
+      cairo_move_to(cr, px(from.x()), py(from.y()));
+      cairo_line_to(cr, px(to.x()), py(to.y()));
+      cairo_stroke(cr);
+      set_colour(room_measurement::wall_colour(w), 1);
+      cairo_set_line_width(cr, 1);
+      cairo_move_to(cr, px(from.x()), py(from.y()));
+      cairo_line_to(cr, px(to.x()), py(to.y()));
+      cairo_stroke(cr);
+    }
     // Length label just inside the room, off the wall's middle by its own size.
     char label[64];
     std::snprintf(label, sizeof(label), "%.3f m", room.walls[w].length);
@@ -101,7 +116,7 @@ void write_floor_plan(const std::string& path, const room_measurement::RoomResul
   char summary[160];
   if (room.status == room_measurement::RoomStatus::Ok) {
     std::snprintf(summary, sizeof(summary), "%zu walls, floor area %.2f m2, perimeter %.2f m%s", room.walls.size(),
-                  room.area, room.perimeter, room.ceiling_height() ? "" : ", no ceiling found");
+                  room.area, room.perimeter, room.ceiling_height() ? "" : ", no ceiling height");
     if (room.ceiling_height())
       std::snprintf(summary + std::strlen(summary), sizeof(summary) - std::strlen(summary), ", ceiling %.2f m",
                     *room.ceiling_height());
@@ -112,8 +127,8 @@ void write_floor_plan(const std::string& path, const room_measurement::RoomResul
   cairo_move_to(cr, margin, 48);
   cairo_show_text(cr, summary);
   cairo_move_to(cr, margin, size - 20);
-  cairo_show_text(cr, background.empty() ? "floor plan, grid 1 m, circle = scanner, dots = corners, faint = wall inliers"
-                                         : "floor plan, grid 1 m, circle = scanner, dots = corners, grey = scan (top view)");
+  cairo_show_text(cr, background.empty() ? "floor plan, grid 1 m, circle = scanner, dots = corners, white gaps = openings, faint = wall inliers"
+                                         : "floor plan, grid 1 m, circle = scanner, dots = corners, white gaps = openings, grey = scan (top view)");
   cairo_destroy(cr);
   cairo_status_t status = CAIRO_STATUS_SUCCESS;
   if (!svg) status = cairo_surface_write_to_png(surface, path.c_str());

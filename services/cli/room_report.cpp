@@ -9,13 +9,17 @@ using room_measurement::RoomResult;
 
 nlohmann::json room_json(const RoomResult& room) {
   nlohmann::json walls = nlohmann::json::array();
-  for (const auto& wall : room.walls)
+  for (const auto& wall : room.walls) {
+    nlohmann::json openings = nlohmann::json::array();
+    for (const auto& o : wall.openings) openings.push_back({{"start_m", o.start}, {"width_m", o.width}});
     walls.push_back({{"length_m", wall.length},
                      {"length_sigma_m", wall.length_sigma},
                      {"normal", {wall.line.normal.x(), wall.line.normal.y(), 0.0}},
                      {"distance_m", wall.line.offset},
                      {"rms_m", wall.line.rms},
-                     {"inliers", wall.points}});
+                     {"inliers", wall.points},
+                     {"openings", openings}});
+  }
   nlohmann::json candidates = nlohmann::json::array();
   for (const auto& c : room.candidates)
     candidates.push_back({{"normal", {c.normal.x(), c.normal.y(), 0.0}},
@@ -32,7 +36,9 @@ nlohmann::json room_json(const RoomResult& room) {
                         {"candidates", candidates},
                         {"area_m2", room.area},
                         {"perimeter_m", room.perimeter},
+                        {"area_sigma_m2", nullptr},
                         {"ceiling_height_m", nullptr},
+                        {"ceiling_height_note", room.height_note},
                         {"points_in", room.points_in},
                         {"points_valid", room.points_valid},
                         {"points_after_filter", room.points_after_filter},
@@ -41,6 +47,7 @@ nlohmann::json room_json(const RoomResult& room) {
                         {"error_histogram", {{"bin_m", room.error_bin}, {"counts", room.error_histogram}}},
                         {"elapsed_ms", room.elapsed_ms}};
   if (room.ceiling_height()) out["ceiling_height_m"] = *room.ceiling_height();
+  if (room.area_sigma > 0) out["area_sigma_m2"] = room.area_sigma;  // not carried by the DDS message
   return out;
 }
 
@@ -54,15 +61,28 @@ std::string room_text(const RoomResult& room) {
   }
   for (size_t i = 0; i < room.walls.size(); ++i) {
     const auto& wall = room.walls[i];
-    std::snprintf(line, sizeof(line), "wall %zu: %.3f m (+-%.3f, rms %.3f m, %zu points)\n", i + 1, wall.length,
+    std::snprintf(line, sizeof(line), "wall %zu: %.3f m (+-%.3f, rms %.3f m, %zu points", i + 1, wall.length,
                   wall.length_sigma, wall.line.rms, wall.points);
     text += line;
+    for (const auto& o : wall.openings) {
+      std::snprintf(line, sizeof(line), "; opening %.2f m wide at %.2f m", o.width, o.start);
+      text += line;
+    }
+    text += ")\n";
   }
-  std::snprintf(line, sizeof(line), "floor area %.2f m2, perimeter %.2f m", room.area, room.perimeter);
+  std::snprintf(line, sizeof(line), "floor area %.2f m2", room.area);
+  text += line;
+  if (room.area_sigma > 0) {  // not carried by the DDS message
+    std::snprintf(line, sizeof(line), " (+-%.2f)", room.area_sigma);
+    text += line;
+  }
+  std::snprintf(line, sizeof(line), ", perimeter %.2f m", room.perimeter);
   text += line;
   if (room.ceiling_height()) {
     std::snprintf(line, sizeof(line), ", ceiling height %.2f m", *room.ceiling_height());
     text += line;
+  } else if (!room.height_note.empty()) {
+    text += ", no ceiling height (" + room.height_note + ")";
   }
   if (room.points_in > 0) {
     std::snprintf(line, sizeof(line), " (%zu points, %.1f ms)", room.points_in, room.elapsed_ms);

@@ -65,7 +65,12 @@ void adjust(const AdjustmentSettings& settings, RoomResult& result) {
 // stand higher than the floor's band, and hold more points than the floor can from a
 // scanner that looks at most 30 degrees down). Heights are the inliers' medians: a plane
 // tilted within the eps angle is off at the origin.
-void find_floor_and_ceiling(const std::vector<Eigen::Vector3f>& points, const RoomSettings& settings, RoomResult& result) {
+struct Horizontals {
+  std::vector<Eigen::Vector2f> floor, ceiling;  // the planes' inliers, x-y
+};
+
+Horizontals find_floor_and_ceiling(const std::vector<Eigen::Vector3f>& points, const RoomSettings& settings, RoomResult& result) {
+  Horizontals found;
   std::vector<float> heights;
   const size_t stride = std::max<size_t>(1, points.size() / settings.max_horizontal_samples);
   for (size_t i = 0; i < points.size(); i += stride) heights.push_back(points[i].z());
@@ -73,22 +78,77 @@ void find_floor_and_ceiling(const std::vector<Eigen::Vector3f>& points, const Ro
   const float low = heights[heights.size() / 100], high = heights[heights.size() * 99 / 100];
   RansacSettings ransac = settings.ransac;
   ransac.max_planes = 1;
-  auto plane_height = [&](float from, float to) -> std::optional<double> {
+  auto plane_height = [&](float from, float to, std::vector<Eigen::Vector2f>& xy) -> std::optional<double> {
     std::vector<Eigen::Vector3f> band;
     for (size_t i = 0; i < points.size(); i += stride)
       if (points[i].z() >= from && points[i].z() <= to) band.push_back(points[i]);
     const auto planes = extract_planes(band, false, ransac);
     if (planes.empty()) return std::nullopt;
     std::vector<float> z;
-    for (const auto& p : planes.front().inliers) z.push_back(p.z());
+    for (const auto& p : planes.front().inliers) z.push_back(p.z()), xy.push_back(p.head<2>());
     std::nth_element(z.begin(), z.begin() + static_cast<long>(z.size() / 2), z.end());
     return z[z.size() / 2];
   };
   constexpr float kBand = 0.3f;  // m
-  if (low < 0) result.floor_z = plane_height(low - kBand, low + kBand);
-  if (high > 0) result.ceiling_z = plane_height(high - kBand, high + kBand);
+  if (low < 0) result.floor_z = plane_height(low - kBand, low + kBand, found.floor);
+  if (high > 0) result.ceiling_z = plane_height(high - kBand, high + kBand, found.ceiling);
   if (result.floor_z && *result.floor_z >= 0) result.floor_z.reset();
   if (result.ceiling_z && *result.ceiling_z <= 0) result.ceiling_z.reset();
+  return found;
+}
+
+// Share of points at least `margin` inside the room's outline.
+double share_inside(const std::vector<Eigen::Vector2f>& points, const std::vector<Eigen::Vector2d>& corners, double margin) {
+  if (points.empty()) return 0;
+  size_t inside = 0;
+  for (const auto& p : points) {
+    const Eigen::Vector2d q = p.cast<double>();
+    bool in = false;  // even-odd rule, then clear of every wall by the margin
+    double nearest = 1e9;
+    for (size_t i = 0, j = corners.size() - 1; i < corners.size(); j = i++) {
+      const Eigen::Vector2d &a = corners[i], &b = corners[j];
+      if ((a.y() > q.y()) != (b.y() > q.y()) && q.x() < (b.x() - a.x()) * (q.y() - a.y()) / (b.y() - a.y()) + a.x()) in = !in;
+      const double s = std::clamp((q - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+      nearest = std::min(nearest, (q - (a + s * (b - a))).norm());
+    }
+    inside += in && nearest >= margin;
+  }
+  return static_cast<double>(inside) / points.size();
+}
+
+// Without the room's outline the floor and ceiling cannot be checked: no height then.
+void drop_unchecked_heights(RoomResult& result) {
+  result.floor_z.reset();
+  result.ceiling_z.reset();
+  result.height_note = "not measured: floor and ceiling are checked against the room's outline, which did not close";
+}
+
+// A floor or ceiling counts only where it is seen: a plane whose points hug the walls is the
+// walls' lowest (or highest) points from a scanner that cannot see the floor (a ring, in a
+// closet), and one with walls reaching past it is a table, a bed or a shelf. Then no
+// ceiling height, and `height_note` says why.
+void check_floor_and_ceiling(const Horizontals& found, RoomResult& result) {
+  constexpr double kInside = 0.15, kMinShare = 0.3, kPast = 0.1;  // m, share, m
+  double wall_low = 1e9, wall_high = -1e9;
+  for (const auto& wall : result.walls) wall_low = std::min(wall_low, wall.line.z_low), wall_high = std::max(wall_high, wall.line.z_high);
+  auto check = [&](std::optional<double>& z, const std::vector<Eigen::Vector2f>& xy, bool floor) {
+    const char* name = floor ? "floor" : "ceiling";
+    if (!z) {
+      result.height_note = std::string(name) + " not found";
+      return;
+    }
+    if (share_inside(xy, result.corners, kInside) < kMinShare) {
+      result.height_note = std::string(name) + " not in view: its plane is the walls' " + (floor ? "lowest" : "highest") +
+                           " points, not a surface seen inside the room";
+      z.reset();
+    } else if (floor ? wall_low < *z - kPast : wall_high > *z + kPast) {
+      result.height_note = std::string(name) + " not in view: walls reach " + (floor ? "below" : "above") +
+                           " the plane found (furniture), not the " + name;
+      z.reset();
+    }
+  };
+  check(result.floor_z, found.floor, true);
+  check(result.ceiling_z, found.ceiling, false);
 }
 
 // The highest surface the scanner sees (the ceiling, else the cloud's top) and its steepest
@@ -162,7 +222,7 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
     result.message = std::to_string(valid.size()) + " valid points: too few to find walls";
     return result;
   }
-  find_floor_and_ceiling(valid, settings, result);
+  const Horizontals horizontals = find_floor_and_ceiling(valid, settings, result);
 
   // The thesis's density threshold is for its ~18,560-point scans: denser clouds scale it.
   HistogramFilterSettings histogram = settings.histogram;
@@ -194,6 +254,7 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
   if (candidates.size() < 3) {
     result.status = RoomStatus::TooFewWalls;
     result.message = "found " + std::to_string(candidates.size()) + " wall planes, a room needs at least 3";
+    drop_unchecked_heights(result);
     return result;
   }
   std::string why;
@@ -201,6 +262,7 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
   if (!polygon) {
     result.status = RoomStatus::WallsDoNotClose;
     result.message = why;
+    drop_unchecked_heights(result);
     return result;
   }
   for (size_t index : polygon->walls) {
@@ -216,6 +278,7 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
   }
   measure_lengths(result.walls);
   if (settings.adjustment.enabled) adjust(settings.adjustment, result);
+  check_floor_and_ceiling(horizontals, result);
   for (size_t i = 0; i < count; ++i)
     result.walls[i].openings = find_openings(result.walls[i].line, result.corners[i], result.corners[(i + 1) % count], valid,
                                              settings.ransac.distance, settings.opening_beyond, settings.opening_min_width);
