@@ -276,13 +276,16 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
     const WallLine& wall = result.walls[i].line;
     result.corners.push_back(intersect_lines(before.normal, before.offset, wall.normal, wall.offset));
   }
-  measure_lengths(result.walls);
-  if (settings.adjustment.enabled) adjust(settings.adjustment, result);
+  if (settings.adjustment.enabled) {
+    adjust(settings.adjustment, result);  // lengths, sigmas, corners and area
+  } else {
+    measure_lengths(result.walls);
+    result.area = polygon_area(result.corners);
+  }
   check_floor_and_ceiling(horizontals, result);
   for (size_t i = 0; i < count; ++i)
     result.walls[i].openings = find_openings(result.walls[i].line, result.corners[i], result.corners[(i + 1) % count], valid,
                                              settings.ransac.distance, settings.opening_beyond, settings.opening_min_width);
-  if (!settings.adjustment.enabled) result.area = polygon_area(result.corners);
   for (const auto& wall : result.walls) result.perimeter += wall.length;
   error_histogram(valid, result);
   result.message = std::to_string(result.walls.size()) + " walls";
