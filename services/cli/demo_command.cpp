@@ -67,23 +67,25 @@ int run_demo(const DemoOptions& options) {
   }
   const room_measurement::RoomResult room = room_from_message(*result.room);
   const std::string pcd = options.out + "/scan.pcd", png = options.out + "/room_top.png",
-                    plan = options.out + "/floor_plan.png";
+                    plan = options.out + "/floor_plan.png", drawing = options.out + "/floor_plan.dxf";
   write_pcd(pcd, result.points);
   write_cloud_png(png, result.points, "scanbus demo: built-in room (thesis case 1), simulated scan", CloudView::Top, true);
   std::vector<Eigen::Vector3f> background;
   for (const auto& point : result.points) background.push_back(point.position);
-  write_floor_plan(plan, room, "scanbus demo: built-in room (thesis case 1, 5.47 m x 3.48 m)", background);
+  const std::string plan_title = "scanbus demo: built-in room (thesis case 1, 5.47 m x 3.48 m)";
+  write_floor_plan(plan, room, plan_title, background);
+  write_floor_plan(drawing, room, plan_title);
   if (!options.json) {
     std::printf("scan of the built-in room: %zu points from %u revolutions\n", result.points.size(), result.revolutions);
     std::printf("%s", room_text(room).c_str());
-    std::printf("wrote %s, %s and %s\n", pcd.c_str(), png.c_str(), plan.c_str());
+    std::printf("wrote %s, %s, %s and %s\n", pcd.c_str(), png.c_str(), plan.c_str(), drawing.c_str());
   }
   nlohmann::json json{{"points", result.points.size()},
                       {"revolutions", result.revolutions},
                       {"extent_min", {low.x(), low.y(), low.z()}},
                       {"extent_max", {high.x(), high.y(), high.z()}},
                       {"room", room_json(room)},
-                      {"files", {pcd, png, plan}}};
+                      {"files", {pcd, png, plan, drawing}}};
   bool mav_ok = true;
   if (options.mav) {
     const MavFlightResult mav = fly_mav(options);

@@ -3,18 +3,24 @@
 #include <cairo-svg.h>
 #include <cairo.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
 
 #include "scanbus/room_measurement/room_message.hpp"
+#include "scanbus/room_plan/dxf_plan.hpp"
 
 namespace scanbus::cli {
 
 void write_floor_plan(const std::string& path, const room_measurement::RoomResult& room, const std::string& title,
                       const std::vector<Eigen::Vector3f>& background) {
-  const bool svg = path.size() > 4 && path.substr(path.size() - 4) == ".svg";
+  auto ends_with = [&](const char* extension) {
+    return path.size() > 4 && path.compare(path.size() - 4, 4, extension) == 0;
+  };
+  if (ends_with(".dxf")) return room_plan::write_dxf_plan(path, room, title);
+  const bool svg = ends_with(".svg");
   const int size = 800, margin = 60;
   Eigen::Vector2d low(0, 0), high(0, 0);  // the scanner is always in view
   for (const auto& corner : room.corners) {
@@ -67,6 +73,19 @@ void write_floor_plan(const std::string& path, const room_measurement::RoomResul
     cairo_stroke(cr);
   }
   cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  // A label centred off the wall at `at` by its own size: inside the room (side -1) or outside
+  // (+1) of the wall's outward normal n.
+  auto show_label = [&](const char* text, const Eigen::Vector2d& at, const Eigen::Vector2d& n, double font, int side) {
+    cairo_set_font_size(cr, font);
+    cairo_text_extents_t extents;
+    cairo_text_extents(cr, text, &extents);
+    const double clearance = std::abs(n.x()) * extents.width / 2 + std::abs(n.y()) * extents.height / 2 + 8;
+    const Eigen::Vector2d centre = at + side * n * (clearance / scale);
+    const double left = std::clamp(px(centre.x()) - extents.width / 2, 2.0, size - extents.width - 2);  // on the page
+    cairo_move_to(cr, left, py(centre.y()) + extents.height / 2);
+    cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+    cairo_show_text(cr, text);
+  };
   const size_t count = room.corners.size();
   for (size_t w = 0; w < room.walls.size() && count == room.walls.size(); ++w) {  // walls corner to corner
     const Eigen::Vector2d a = room.corners[w], b = room.corners[(w + 1) % count];
@@ -89,19 +108,17 @@ void write_floor_plan(const std::string& path, const room_measurement::RoomResul
       cairo_move_to(cr, px(from.x()), py(from.y()));
       cairo_line_to(cr, px(to.x()), py(to.y()));
       cairo_stroke(cr);
+      char width[32];
+      std::snprintf(width, sizeof(width), "opening %.2f m", opening.width);
+      show_label(width, (from + to) / 2, room.walls[w].line.normal, 11, +1);  // the length is inside
     }
-    // Length label just inside the room, off the wall's middle by its own size.
+    // Length and its one sigma just inside the room, off the wall's middle by its own size.
     char label[64];
-    std::snprintf(label, sizeof(label), "%.3f m", room.walls[w].length);
-    cairo_set_font_size(cr, 15);
-    cairo_text_extents_t extents;
-    cairo_text_extents(cr, label, &extents);
-    const Eigen::Vector2d n = room.walls[w].line.normal;
-    const double clearance = std::abs(n.x()) * extents.width / 2 + std::abs(n.y()) * extents.height / 2 + 8;
-    const Eigen::Vector2d mid = (a + b) / 2 - n * (clearance / scale);
-    cairo_move_to(cr, px(mid.x()) - extents.width / 2, py(mid.y()) + extents.height / 2);
-    cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
-    cairo_show_text(cr, label);
+    if (room.walls[w].length_sigma > 0)
+      std::snprintf(label, sizeof(label), "%.3f \u00b1 %.3f m", room.walls[w].length, room.walls[w].length_sigma);
+    else
+      std::snprintf(label, sizeof(label), "%.3f m", room.walls[w].length);
+    show_label(label, (a + b) / 2, room.walls[w].line.normal, 15, -1);
   }
   cairo_set_source_rgb(cr, 0, 0, 0);
   for (const auto& corner : room.corners) {
@@ -115,8 +132,10 @@ void write_floor_plan(const std::string& path, const room_measurement::RoomResul
   cairo_show_text(cr, title.c_str());
   char summary[160];
   if (room.status == room_measurement::RoomStatus::Ok) {
-    std::snprintf(summary, sizeof(summary), "%zu walls, floor area %.2f m2, perimeter %.2f m%s", room.walls.size(),
-                  room.area, room.perimeter, room.ceiling_height() ? "" : ", no ceiling height");
+    char area_sigma[32] = "";
+    if (room.area_sigma > 0) std::snprintf(area_sigma, sizeof(area_sigma), " \u00b1 %.2f", room.area_sigma);
+    std::snprintf(summary, sizeof(summary), "%zu walls, floor area %.2f%s m2, perimeter %.2f m%s", room.walls.size(),
+                  room.area, area_sigma, room.perimeter, room.ceiling_height() ? "" : ", no ceiling height");
     if (room.ceiling_height())
       std::snprintf(summary + std::strlen(summary), sizeof(summary) - std::strlen(summary), ", ceiling %.2f m",
                     *room.ceiling_height());

@@ -1,5 +1,6 @@
 // The measured room as a floor plan a person checks at a glance: wall inliers, walls,
-// corners, lengths, area. PNG or SVG by the file's extension (cairo).
+// corners, lengths, area. PNG or SVG (cairo), or DXF for CAD programs (room_plan), by the
+// file's extension.
 #pragma once
 
 #include <string>

@@ -43,8 +43,9 @@ int run_measure(const RoomOptions& options) {
     }
     return 2;
   }
+  std::cout << (options.json ? room_json(room).dump() + "\n" : room_text(room)) << std::flush;
+  // After the result: a plan that cannot be written loses no measurement.
   if (!options.plan.empty()) write_floor_plan(options.plan, room, options.file);
-  std::cout << (options.json ? room_json(room).dump() + "\n" : room_text(room));
   return room.status == room_measurement::RoomStatus::Ok ? 0 : 1;
 }
 
@@ -60,7 +61,7 @@ void add_room_command(CLI::App& app, int& exit_code) {
       ->check(CLI::IsMember({"m", "cm", "mm"}));
   measure->add_option("--config", options.config, "YAML with a room_measurement section (defaults: the thesis's)");
   measure->add_flag("--json", options.json, "Print one JSON object");
-  measure->add_option("--plan", options.plan, "Draw the floor plan to this .png or .svg");
+  measure->add_option("--plan", options.plan, "Draw the floor plan to this .png, .svg or .dxf (CAD, metres)");
   on_run(*measure, exit_code, [] { return run_measure(options); });
 }
 

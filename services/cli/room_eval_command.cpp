@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 #include "cloud_files.hpp"
@@ -20,7 +21,7 @@ struct EvalRoomsOptions {
   std::string out;
 };
 
-// Each room's scan (PCD) and measured floor plan (PNG), named by category and seed.
+// Each room's scan (PCD) and measured floor plan (PNG and DXF), named by category and seed.
 void write_cases(const std::string& folder, const std::vector<room_evaluation::RoomCase>& cases) {
   for (const auto& c : cases) {
     const std::string name = folder + "/" + sim::category_name(c.category) + "_" + std::to_string(c.seed);
@@ -28,6 +29,7 @@ void write_cases(const std::string& folder, const std::vector<room_evaluation::R
     for (const auto& p : c.cloud) points.push_back({p, 0});
     write_pcd(name + ".pcd", points);
     write_floor_plan(name + "_plan.png", c.measurement, name, c.cloud);
+    write_floor_plan(name + "_plan.dxf", c.measurement, name);
   }
 }
 
@@ -92,6 +94,7 @@ void print_table(const std::vector<room_evaluation::SweepSummary>& summaries) {
 
 int run_eval_rooms(const EvalRoomsOptions& options) {
   const bool progress = !options.json && isatty(STDOUT_FILENO);
+  if (!options.out.empty()) std::filesystem::create_directories(options.out);  // before the sweep's seconds
   const auto cases = room_evaluation::evaluate_sweep(options.sweep, room_measurement::RoomSettings{}, [&](size_t done, size_t total) {
     if (progress) std::printf("\rscanning and measuring room %zu of %zu   ", done, total), std::fflush(stdout);
   });
@@ -128,8 +131,7 @@ void add_eval_rooms_command(CLI::App& eval, int& exit_code) {
   rooms->add_option("--threads", options.sweep.threads, "Worker threads (0: one per core)")->check(CLI::Range(0, 256));
   rooms->add_flag("--ideal-device", options.sweep.ideal_device,
                   "Scan with the ideal device of the thesis's equations (2 cm noise, no imperfections)");
-  rooms->add_option("--out", options.out, "Folder for each room's scan (PCD) and measured floor plan (PNG)")
-      ->check(CLI::ExistingDirectory)
+  rooms->add_option("--out", options.out, "Folder (made if missing) for each room's scan (PCD) and floor plan (PNG, DXF)")
       ->each([](const std::string&) { options.sweep.keep_clouds = true; });
   rooms->add_flag("--cases", options.cases, "Also print a line for every room");
   rooms->add_flag("--json", options.json, "One JSON object (summary and every room), no progress");

@@ -10,7 +10,9 @@ trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$work"' EXIT
 
 # SCANBUS_TEST_MAV_RATE: scripts/sanitize.sh replays slower, the sanitizers' slowdown
 # would otherwise make the 8x replay outrun the services.
-"$scanbus" demo --json --out "$work/out" --mav-rate "${SCANBUS_TEST_MAV_RATE:-8}" > "$work/demo.json"
+# The JSON is printed on failure too: it says which part failed.
+"$scanbus" demo --json --out "$work/out" --mav-rate "${SCANBUS_TEST_MAV_RATE:-8}" > "$work/demo.json" ||
+  { cat "$work/demo.json"; echo "FAIL: scanbus demo exited non-zero"; exit 1; }
 cat "$work/demo.json"
 python3 - "$work/demo.json" <<'PY'
 import json, sys
@@ -39,8 +41,9 @@ print("demo MAV: fused height RMSE", round(mav["height_rmse_m"]["fused"], 3), "m
 result["files"] += mav["files"]
 for path in result["files"]:
     with open(path, "rb") as f:
-        head = f.read(8)
-    assert head.startswith(b"#") or head.startswith(b"\x89PNG"), path
+        head = f.read(16)
+    # PCD, PNG, or DXF (dxflib's comment line, then the HEADER section)
+    assert head.startswith(b"#") or head.startswith(b"\x89PNG") or head.lstrip().startswith(b"999"), (path, head)
 print("demo output plausible")
 PY
 

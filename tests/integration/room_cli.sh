@@ -45,6 +45,35 @@ PY
 [ "$status" -eq 0 ] || fail "exit $status for a measurable room"
 grep -q "<svg" "$work/plan.svg" || fail "no SVG floor plan"
 
+# The plan as DXF, opened by a reader other than the writer's (Debian's python3-ezdxf, run by
+# the system Python that has it): it audits clean, WALLS close the room, one dimension per
+# wall says its length.
+"$scanbus" room measure "$work/room_cm.xyz" --unit cm --plan "$work/plan.dxf" > /dev/null || fail "DXF plan"
+/usr/bin/python3 - "$work/plan.dxf" "$work/out.json" <<'PY' || fail "DXF plan read back"
+import json, math, sys
+import ezdxf
+doc = ezdxf.readfile(sys.argv[1])
+room = json.load(open(sys.argv[2]))
+auditor = doc.audit()
+assert not auditor.has_errors, [str(e) for e in auditor.errors]
+assert doc.header.get("$INSUNITS") == 6, doc.header.get("$INSUNITS")
+msp = doc.modelspace()
+walls = [l for l in msp.query("LINE") if l.dxf.layer == "WALLS"]
+xy = lambda v: (v.x, v.y)
+drawn = sum(math.dist(xy(l.dxf.start), xy(l.dxf.end)) for l in walls)
+assert abs(drawn - room["perimeter_m"]) < 1e-3, (drawn, room["perimeter_m"])
+labels = [t.dxf.text for t in msp.query("TEXT") if t.dxf.layer == "DIMENSIONS"]
+assert len(labels) == len(room["walls"]), labels
+for label, wall in zip(labels, room["walls"]):
+    assert label.startswith(f'{wall["length_m"]:.3f} m'), (label, wall["length_m"])
+# Per wall: 2 extension lines, 2 ticks, then the dimension line, as long as the wall.
+dimension_lines = [l for l in msp.query("LINE") if l.dxf.layer == "DIMENSIONS"]
+assert len(dimension_lines) == 5 * len(room["walls"]), len(dimension_lines)
+for line, wall in zip(dimension_lines[4::5], room["walls"]):
+    assert abs(math.dist(xy(line.dxf.start), xy(line.dxf.end)) - wall["length_m"]) < 1e-3, wall
+print("ok   DXF plan read by ezdxf:", len(walls), "wall lines,", len(labels), "dimensions,", round(drawn, 3), "m")
+PY
+
 # The same room as PCL's binary_compressed PCD (fields one after another, LZF: literal runs
 # only), read as the xyz; then with its sizes damaged (PCL trusts them: found by fuzzing).
 python3 - "$work/room_cm.xyz" "$work" <<'PY'
