@@ -16,9 +16,11 @@ cmake --build build-sanitize -j2 > build-sanitize-build.log 2>&1 || { tail -50 b
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:detect_stack_use_after_return=1:new_delete_type_mismatch=0
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export LSAN_OPTIONS=suppressions=$PWD/tests/sanitizers/lsan.supp:print_suppressions=0
-# The demo's MAV replay at 4x instead of 8x: under the sanitizers' slowdown 8x outruns the
-# services (poses lost, tests/integration/cli_demo.sh).
-export SCANBUS_TEST_MAV_RATE=4
+# The demo's MAV replay at 2x instead of 8x: under the sanitizers' slowdown the scan matcher
+# keeps up with about 2x (at 4x, alone on 2 cores, it lost 18 % of the scans and the boxes
+# went unmeasured; tests/integration/cli_demo.sh). The demo then takes about 5 minutes here,
+# 2 of them the box check's footprint fits (Ceres, instrumented).
+export SCANBUS_TEST_MAV_RATE=2
 cd build-sanitize
 # Left out: the container test (its image is built without sanitizers) and the two slowest
 # (9 and 6 minutes here under the sanitizers): accuracy.mav_scenarios (seeds of 'scanbus

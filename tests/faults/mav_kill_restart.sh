@@ -58,14 +58,16 @@ others_alive() {
 }
 
 restart pose_estimation
-grows "$work/poses.jsonl" 100 15 && echo "ok   poses resumed after pose_estimation was killed and restarted" ||
-  fail "no poses within 15 s of pose_estimation's restart"
+# 30 s: a restarted service under the sanitizers, beside another test on 2 cores, took over 15 s
+# (its start, discovery, the barometer's fresh calibration); a passing run moves on at once.
+grows "$work/poses.jsonl" 100 30 && echo "ok   poses resumed after pose_estimation was killed and restarted" ||
+  { fail "no poses within 30 s of pose_estimation's restart"; tail -5 "$work/pose_estimation.log"; }
 others_alive pose_estimation
 
 restart scan_matcher
-grows "$work/matches.jsonl" 100 15 && grows "$work/poses.jsonl" 100 15 &&
+grows "$work/matches.jsonl" 100 30 && grows "$work/poses.jsonl" 100 30 &&
   echo "ok   matches and poses resumed after scan_matcher was killed and restarted" ||
-  fail "no matches or poses within 15 s of scan_matcher's restart"
+  { fail "no matches or poses within 30 s of scan_matcher's restart"; tail -5 "$work/scan_matcher.log"; }
 others_alive scan_matcher
 
 restart cloud_assembly
