@@ -39,8 +39,11 @@ TEST(ScanMatcherService, TracksAKnownFlightAndRejectsABadScan) {
   char dir[] = "/tmp/scanbus_scan_matcher_XXXXXX";
   const std::string work = mkdtemp(dir);
   // Reliable on rt/scan so this test loses nothing by design (the catalogue's best effort
-  // is what a sensor stream wants).
-  std::ofstream(work + "/matcher.yaml") << "qos:\n  rt/scan: {reliability: reliable, depth: 100}\n";
+  // is what a sensor stream wants), and rt/scan_match deeper than the burst: with the
+  // catalogue's depth 10 the writer dropped an unacknowledged match when this test's process
+  // was slow to take them (29 of 30 once in CI, beside other tests).
+  std::ofstream(work + "/matcher.yaml")
+      << "qos:\n  rt/scan: {reliability: reliable, depth: 100}\n  rt/scan_match: {reliability: reliable, depth: 100}\n";
   ChildProcess service(SCANBUS_CLI, {"run", "scan_matcher", "--config", work + "/matcher.yaml"}, work + "/matcher.log");
 
   Participant participant(DdsSettings{"", "localhost", 82}, "scanbus/test_scan_matcher");
@@ -49,7 +52,7 @@ TEST(ScanMatcherService, TracksAKnownFlightAndRejectsABadScan) {
   Writer<sensor_msgs::msg::LaserScanPubSubType> scans(participant, "rt/scan", reliable);
   std::mutex mutex;
   std::vector<scanbus::msg::ScanMatch> matches;
-  Reader<scanbus::msg::ScanMatchPubSubType> reader(participant, "rt/scan_match", [&](const auto& match, const auto&) {
+  Reader<scanbus::msg::ScanMatchPubSubType> reader(participant, "rt/scan_match", reliable, [&](const auto& match, const auto&) {
     std::lock_guard<std::mutex> lock(mutex);
     matches.push_back(match);
   });
