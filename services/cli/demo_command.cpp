@@ -13,6 +13,7 @@
 #include "mav_flight.hpp"
 #include "room_report.hpp"
 #include "room_scan.hpp"
+#include "scanbus/room_measurement/room_message.hpp"
 
 namespace scanbus::cli {
 
@@ -65,7 +66,7 @@ int run_demo(const DemoOptions& options) {
     low = low.cwiseMin(point.position);
     high = high.cwiseMax(point.position);
   }
-  const room_measurement::RoomResult room = room_from_message(*result.room);
+  const room_measurement::RoomResult room = room_measurement::from_message(*result.room);
   const std::string pcd = options.out + "/scan.pcd", png = options.out + "/room_top.png",
                     plan = options.out + "/floor_plan.png", drawing = options.out + "/floor_plan.dxf";
   write_pcd(pcd, result.points);

@@ -91,9 +91,12 @@ void write_floor_plan(const std::string& path, const room_measurement::RoomResul
     const Eigen::Vector2d a = room.corners[w], b = room.corners[(w + 1) % count];
     set_colour(room_measurement::wall_colour(w), 1);
     cairo_set_line_width(cr, 3);
+    const double dash[] = {8, 6};
+    cairo_set_dash(cr, dash, room.walls[w].inferred() ? 2 : 0, 0);  // a wall not seen, inferred: dashed
     cairo_move_to(cr, px(a.x()), py(a.y()));
     cairo_line_to(cr, px(b.x()), py(b.y()));
     cairo_stroke(cr);
+    cairo_set_dash(cr, dash, 0, 0);
     // Openings (doors, windows seen through) as white gaps with a thin outline of the wall.
     const Eigen::Vector2d along = (b - a).normalized();
     for (const auto& opening : room.walls[w].openings) {
@@ -121,9 +124,11 @@ void write_floor_plan(const std::string& path, const room_measurement::RoomResul
     show_label(label, (a + b) / 2, room.walls[w].line.normal, 15, -1);
   }
   cairo_set_source_rgb(cr, 0, 0, 0);
-  for (const auto& corner : room.corners) {
-    cairo_arc(cr, px(corner.x()), py(corner.y()), 4, 0, 2 * M_PI);
-    cairo_fill(cr);
+  for (size_t i = 0; i < room.corners.size(); ++i) {  // measured corners filled, inferred ones open
+    cairo_new_sub_path(cr);
+    cairo_arc(cr, px(room.corners[i].x()), py(room.corners[i].y()), 4, 0, 2 * M_PI);
+    const bool inferred = i < room.corner_inferred.size() && room.corner_inferred[i];
+    inferred ? cairo_stroke(cr) : cairo_fill(cr);
   }
   cairo_arc(cr, px(0), py(0), 5, 0, 2 * M_PI);  // the scanner
   cairo_stroke(cr);
@@ -146,8 +151,8 @@ void write_floor_plan(const std::string& path, const room_measurement::RoomResul
   cairo_move_to(cr, margin, 48);
   cairo_show_text(cr, summary);
   cairo_move_to(cr, margin, size - 20);
-  cairo_show_text(cr, background.empty() ? "floor plan, grid 1 m, circle = scanner, dots = corners, white gaps = openings, faint = wall inliers"
-                                         : "floor plan, grid 1 m, circle = scanner, dots = corners, white gaps = openings, grey = scan (top view)");
+  cairo_show_text(cr, background.empty() ? "floor plan, grid 1 m, circle = scanner, dots = corners (open: inferred), dashed = wall not seen, white gaps = openings, faint = wall inliers"
+                                         : "floor plan, grid 1 m, circle = scanner, dots = corners (open: inferred), dashed = wall not seen, white gaps = openings, grey = scan (top view)");
   cairo_destroy(cr);
   cairo_status_t status = CAIRO_STATUS_SUCCESS;
   if (!svg) status = cairo_surface_write_to_png(surface, path.c_str());

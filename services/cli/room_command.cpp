@@ -22,11 +22,7 @@ struct RoomOptions {
 int run_measure(const RoomOptions& options) {
   room_measurement::RoomSettings settings;
   try {
-    if (!options.config.empty()) {
-      const Config section = Config::load(options.config).section("room_measurement");
-      settings = room_measurement::room_service_settings(section).room;
-      section.check_all_read();
-    }
+    if (!options.config.empty()) settings = room_measurement::room_settings_from_file(options.config);
   } catch (const ConfigError& e) {
     std::cerr << "scanbus room measure: config error: " << e.what() << "\n";
     return 2;

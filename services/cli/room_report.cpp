@@ -13,6 +13,7 @@ nlohmann::json room_json(const RoomResult& room) {
     nlohmann::json openings = nlohmann::json::array();
     for (const auto& o : wall.openings) openings.push_back({{"start_m", o.start}, {"width_m", o.width}});
     walls.push_back({{"length_m", wall.length},
+                     {"inferred", wall.inferred()},
                      {"length_sigma_m", wall.length_sigma},
                      {"normal", {wall.line.normal.x(), wall.line.normal.y(), 0.0}},
                      {"distance_m", wall.line.offset},
@@ -29,10 +30,13 @@ nlohmann::json room_json(const RoomResult& room) {
                           {"inliers", c.inliers.size()}});
   nlohmann::json corners = nlohmann::json::array();
   for (const auto& corner : room.corners) corners.push_back({corner.x(), corner.y()});
+  nlohmann::json corner_inferred = nlohmann::json::array();
+  for (bool inferred : room.corner_inferred) corner_inferred.push_back(inferred);
   nlohmann::json out = {{"status", room_measurement::status_name(room.status)},
                         {"message", room.message},
                         {"walls", walls},
                         {"corners", corners},
+                        {"corner_inferred", corner_inferred},
                         {"candidates", candidates},
                         {"area_m2", room.area},
                         {"perimeter_m", room.perimeter},
@@ -47,7 +51,7 @@ nlohmann::json room_json(const RoomResult& room) {
                         {"error_histogram", {{"bin_m", room.error_bin}, {"counts", room.error_histogram}}},
                         {"elapsed_ms", room.elapsed_ms}};
   if (room.ceiling_height()) out["ceiling_height_m"] = *room.ceiling_height();
-  if (room.area_sigma > 0) out["area_sigma_m2"] = room.area_sigma;  // not carried by the DDS message
+  if (room.area_sigma > 0) out["area_sigma_m2"] = room.area_sigma;
   return out;
 }
 
@@ -61,8 +65,13 @@ std::string room_text(const RoomResult& room) {
   }
   for (size_t i = 0; i < room.walls.size(); ++i) {
     const auto& wall = room.walls[i];
-    std::snprintf(line, sizeof(line), "wall %zu: %.3f m (+-%.3f, rms %.3f m, %zu points", i + 1, wall.length,
-                  wall.length_sigma, wall.line.rms, wall.points);
+    if (wall.inferred()) {
+      std::snprintf(line, sizeof(line), "wall %zu: %.3f m (+-%.3f, not seen: inferred perpendicular between its neighbours", i + 1,
+                    wall.length, wall.length_sigma);
+    } else {
+      std::snprintf(line, sizeof(line), "wall %zu: %.3f m (+-%.3f, rms %.3f m, %zu points", i + 1, wall.length,
+                    wall.length_sigma, wall.line.rms, wall.points);
+    }
     text += line;
     for (const auto& o : wall.openings) {
       std::snprintf(line, sizeof(line), "; opening %.2f m wide at %.2f m", o.width, o.start);
@@ -72,7 +81,7 @@ std::string room_text(const RoomResult& room) {
   }
   std::snprintf(line, sizeof(line), "floor area %.2f m2", room.area);
   text += line;
-  if (room.area_sigma > 0) {  // not carried by the DDS message
+  if (room.area_sigma > 0) {
     std::snprintf(line, sizeof(line), " (+-%.2f)", room.area_sigma);
     text += line;
   }
@@ -89,30 +98,6 @@ std::string room_text(const RoomResult& room) {
     text += line;
   }
   return text + "\n";
-}
-
-room_measurement::RoomResult room_from_message(const scanbus::msg::RoomMeasurement& message) {
-  room_measurement::RoomResult room;
-  room.status = static_cast<room_measurement::RoomStatus>(message.status());
-  room.message = message.message();
-  for (const auto& wall : message.walls()) {
-    room_measurement::MeasuredWall out;
-    out.line.normal = Eigen::Vector2d(wall.plane()[0], wall.plane()[1]);
-    out.line.offset = -wall.plane()[3];
-    out.line.rms = wall.rms_residual();
-    out.length = wall.length();
-    out.length_sigma = wall.length_uncertainty();
-    out.points = wall.inliers();
-    room.walls.push_back(out);
-  }
-  for (const auto& corner : message.corners()) room.corners.emplace_back(corner.x(), corner.y());
-  room.area = message.floor_area();
-  room.perimeter = message.perimeter();
-  if (std::isfinite(message.ceiling_height())) {
-    room.floor_z = 0;
-    room.ceiling_z = message.ceiling_height();
-  }
-  return room;
 }
 
 }  // namespace scanbus::cli

@@ -5,14 +5,11 @@
 
 #include <string>
 
-#include "RoomMeasurement.h"
 #include "scanbus/room_measurement/room_measurement.hpp"
 
 namespace scanbus::cli {
 
 nlohmann::json room_json(const room_measurement::RoomResult& room);
 std::string room_text(const room_measurement::RoomResult& room);
-// What a RoomMeasurement carries, as a RoomResult (no inliers, no diagnostics).
-room_measurement::RoomResult room_from_message(const scanbus::msg::RoomMeasurement& message);
 
 }  // namespace scanbus::cli

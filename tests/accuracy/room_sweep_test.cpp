@@ -4,6 +4,7 @@
 // are not asserted here.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include "scanbus/room_evaluation/room_evaluation.hpp"
@@ -16,23 +17,29 @@ TEST(RoomSweep, WhatHoldsOnTheSweep) {
   const auto cases = room_evaluation::evaluate_sweep(options, room_measurement::RoomSettings{});
   ASSERT_EQ(cases.size(), 120u);
   for (const auto& s : room_evaluation::summarize(cases)) {
-    std::printf("%-15s rooms %zu seen %zu measured %zu wrong %zu refused %zu/%zu median %.4f p95 %.4f max %.4f m, "
+    std::printf("%-15s rooms %zu seen %zu measured %zu inferred %zu wrong %zu refused %zu/%zu median %.4f p95 %.4f max %.4f m, "
                 "%.0f %% within 1 sigma, %.0f %% within 2\n",
-                s.category.c_str(), s.rooms, s.measurable, s.measured, s.wrong, s.refused, s.refused_wrongly,
+                s.category.c_str(), s.rooms, s.measurable, s.measured, s.inferred, s.wrong, s.refused, s.refused_wrongly,
                 s.median_wall_error, s.p95_wall_error, s.max_wall_error, 100 * s.within_1_sigma, 100 * s.within_2_sigma);
     // Closed rooms, rooms with windows or angled walls, a scanner in a corner: every one measured.
     if (s.category == "box" || s.category == "windows" || s.category == "angled" || s.category == "near_wall")
       EXPECT_EQ(s.measured, s.rooms) << s.category;
     if (s.category == "doors") EXPECT_GE(s.measured, 8u) << "doors: what is seen through a door is outside";
+    // Chimney breasts, alcoves, L and T rooms with one side turned away: that wall inferred.
+    if (s.category == "chimney_breast") EXPECT_GE(s.inferred, 3u) << "hidden sides inferred";
     if (s.category != "all") continue;
     EXPECT_GE(s.measured, 60u);
-    EXPECT_LE(s.wrong, 15u) << "rooms given status ok with walls that are not the room's";
+    EXPECT_GE(s.inferred, 6u);
+    EXPECT_LE(s.wrong, 6u) << "rooms given status ok with walls that are not the room's";
     EXPECT_LT(s.median_wall_error, 0.012);
-    EXPECT_LT(s.max_wall_error, 0.05);
     // The printed sigmas are calibrated: the true error within 1 sigma for 60-75 % of walls,
     // within 2 sigma for at least 93 %.
     EXPECT_GE(s.within_1_sigma, 0.60);
     EXPECT_LE(s.within_1_sigma, 0.75);
     EXPECT_GE(s.within_2_sigma, 0.93);
   }
+  double worst_seen = 0;  // rooms whose every wall was seen (inferred rooms' walls hold only by their sigmas)
+  for (const auto& c : cases)
+    if (c.verdict == room_evaluation::Verdict::Measured) worst_seen = std::max(worst_seen, c.max_wall_error());
+  EXPECT_LT(worst_seen, 0.05);
 }

@@ -29,7 +29,12 @@ for got, want in zip(lengths, [3.48, 3.48, 5.47, 5.47]):
     assert abs(got - want) < 0.02, (got, want)
 assert abs(room["area_m2"] - 5.47 * 3.48) < 0.01 * 5.47 * 3.48, room["area_m2"]
 assert abs(room["ceiling_height_m"] - 2.5) < 0.05, room["ceiling_height_m"]
-print("demo room:", [round(l, 3) for l in lengths], "area", round(room["area_m2"], 2))
+# What the service measured, carried over DDS: its point counts, time and the area's sigma.
+assert 0.9 * result["points"] <= room["points_in"] <= 1.1 * result["points"], (room["points_in"], result["points"])
+assert 0 < room["points_after_filter"] <= room["points_valid"] <= room["points_in"], room
+assert room["elapsed_ms"] > 0 and room["area_sigma_m2"] and room["area_sigma_m2"] > 0, room
+print("demo room:", [round(l, 3) for l in lengths], "area", round(room["area_m2"], 2), "from", room["points_in"],
+      "points in", round(room["elapsed_ms"], 1), "ms")
 mav = result["mav"]
 # Scenario IV through the services: every scan's pose, the fused height well under the
 # barometer's, the boxes at the target.

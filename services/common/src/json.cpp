@@ -112,18 +112,27 @@ void to_json(json& out, const ScanMatch& in) {
          {"correspondences", in.correspondences()}, {"residual", in.residual()},
          {"keyframe", in.keyframe()}};
 }
+void to_json(json& out, const Opening& in) { out = {{"start", in.start()}, {"width", in.width()}}; }
 void to_json(json& out, const Wall& in) {
   out = {{"plane", in.plane()},
          {"length", in.length()},
          {"length_uncertainty", in.length_uncertainty()},
          {"inliers", in.inliers()},
-         {"rms_residual", in.rms_residual()}};
+         {"rms_residual", in.rms_residual()},
+         {"inferred", in.inferred()},
+         {"openings", in.openings()}};
 }
 void to_json(json& out, const RoomMeasurement& in) {
   out = {{"header", in.header()},         {"walls", in.walls()},
-         {"corners", in.corners()},       {"floor_area", in.floor_area()},
+         {"corners", in.corners()},       {"corner_inferred", in.corner_inferred()},
+         {"floor_area", in.floor_area()}, {"floor_area_uncertainty", in.floor_area_uncertainty()},
          {"perimeter", in.perimeter()},   {"ceiling_height", in.ceiling_height()},
-         {"status", in.status()},         {"message", in.message()}};
+         {"ceiling_height_note", in.ceiling_height_note()},
+         {"status", in.status()},         {"message", in.message()},
+         {"points_in", in.points_in()},   {"points_valid", in.points_valid()},
+         {"points_after_filter", in.points_after_filter()},
+         {"points_after_voxel", in.points_after_voxel()},
+         {"processing_time", in.processing_time()}};
 }
 void to_json(json& out, const AssembleRequest& in) {
   out = {{"request_id", in.request_id()}, {"client", in.client()}, {"begin", in.begin()},

@@ -95,6 +95,13 @@ RoomServiceSettings room_service_settings(const Config& section) {
   return settings;
 }
 
+RoomSettings room_settings_from_file(const std::string& path) {
+  const Config section = Config::load(path).section("room_measurement");
+  const RoomSettings settings = room_service_settings(section).room;
+  section.check_all_read();
+  return settings;
+}
+
 std::unique_ptr<Service> make_room_measurement(ServiceContext& context) {
   return std::make_unique<RoomMeasurementService>(context);
 }

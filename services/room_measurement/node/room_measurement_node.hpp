@@ -21,5 +21,8 @@ struct RoomServiceSettings {
   RoomSettings room;
 };
 RoomServiceSettings room_service_settings(const Config& section);
+// The room settings of a service config file (its room_measurement section, every key
+// checked); throws ConfigError naming the problem.
+RoomSettings room_settings_from_file(const std::string& path);
 
 }  // namespace scanbus::room_measurement

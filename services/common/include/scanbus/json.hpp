@@ -22,7 +22,7 @@ SCANBUS_JSON(FluidPressure); SCANBUS_JSON(NavSatStatus); SCANBUS_JSON(NavSatFix)
 }  // namespace sensor_msgs::msg
 namespace scanbus::msg {
 SCANBUS_JSON(Pose2D); SCANBUS_JSON(SphericalMeasurement); SCANBUS_JSON(SphericalScan);
-SCANBUS_JSON(ScannerCommand); SCANBUS_JSON(ScannerStatus); SCANBUS_JSON(ScanMatch); SCANBUS_JSON(Wall);
+SCANBUS_JSON(ScannerCommand); SCANBUS_JSON(ScannerStatus); SCANBUS_JSON(ScanMatch); SCANBUS_JSON(Opening); SCANBUS_JSON(Wall);
 SCANBUS_JSON(RoomMeasurement); SCANBUS_JSON(AssembleRequest); SCANBUS_JSON(AssembleReply);
 SCANBUS_JSON(Counter); SCANBUS_JSON(Health);
 }  // namespace scanbus::msg

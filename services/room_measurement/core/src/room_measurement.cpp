@@ -194,6 +194,33 @@ WallLine refine_wall(const WallLine& wall, const std::vector<Eigen::Vector3f>& p
   return fitted;
 }
 
+// Each inferred wall placed again from its refined neighbours: through the nearer one's end
+// (the corner the scanner saw), with that end's uncertainty (the sampling step there and half
+// the beam's footprint) as its offset's sigma; its other corner is inferred.
+void place_hidden_walls(const std::vector<Eigen::Vector3f>& points, const RoomSettings& settings, RoomResult& result) {
+  constexpr double kMaxGap = 0.15;  // m: a wider gap in a wall's points is not its body
+  const size_t count = result.walls.size();
+  result.corner_inferred.assign(count, false);
+  for (size_t i = 0; i < count; ++i) {
+    if (!result.walls[i].inferred()) continue;
+    const WallLine& before = result.walls[(i + count - 1) % count].line;
+    const WallLine& after = result.walls[(i + 1) % count].line;
+    const bool before_nearer = before.offset < after.offset;
+    WallLine nearer = before_nearer ? before : after;
+    std::vector<Eigen::Vector3f> body;  // its height away from floor and ceiling, whose points run on past the corner
+    for (const auto& p : points)
+      if (p.z() > nearer.z_low + 0.2 && p.z() < nearer.z_high - 0.2) body.push_back(p);
+    const Eigen::Vector2d placed = intersect_lines(nearer.normal, nearer.offset, result.walls[i].line.normal, result.walls[i].line.offset);
+    const WallEnd end = wall_end(nearer, nearer.direction().dot(placed), before_nearer, body, 2 * settings.ransac.distance, kMaxGap);
+    const Eigen::Vector2d corner = nearer.offset * nearer.normal + end.along * nearer.direction();
+    const double footprint = corner.norm() * settings.beam_divergence / 2;
+    WallLine hidden = infer_hidden_wall(before, after, end.along);
+    hidden.offset_sigma = std::hypot(end.spacing / std::sqrt(12.0), footprint);  // a uniform shortfall's sigma
+    result.walls[i].line = hidden;
+    result.corner_inferred[before_nearer ? (i + 1) % count : i] = true;
+  }
+}
+
 void error_histogram(const std::vector<Eigen::Vector3f>& points, RoomResult& result) {
   if (result.walls.empty()) return;
   const auto longest = std::max_element(result.walls.begin(), result.walls.end(),
@@ -266,10 +293,12 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
     return result;
   }
   for (size_t index : polygon->walls) {
-    MeasuredWall wall{refine_wall(candidates[index], filtered, 2 * settings.ransac.distance), 0, 0, 0};
+    const WallLine& candidate = candidates[index];
+    MeasuredWall wall{candidate.inferred ? candidate : refine_wall(candidate, filtered, 2 * settings.ransac.distance), 0, 0, 0};
     wall.points = wall.line.inliers.size();
     result.walls.push_back(std::move(wall));
   }
+  place_hidden_walls(valid, settings, result);
   const size_t count = result.walls.size();
   for (size_t i = 0; i < count; ++i) {  // corners of the refined walls
     const WallLine& before = result.walls[(i + count - 1) % count].line;
@@ -284,11 +313,15 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
   }
   check_floor_and_ceiling(horizontals, result);
   for (size_t i = 0; i < count; ++i)
-    result.walls[i].openings = find_openings(result.walls[i].line, result.corners[i], result.corners[(i + 1) % count], valid,
+    if (!result.walls[i].inferred())  // a wall turned away from the scanner: nothing is seen through it
+      result.walls[i].openings = find_openings(result.walls[i].line, result.corners[i], result.corners[(i + 1) % count], valid,
                                              settings.ransac.distance, settings.opening_beyond, settings.opening_min_width);
   for (const auto& wall : result.walls) result.perimeter += wall.length;
   error_histogram(valid, result);
+  const auto hidden = std::count_if(result.walls.begin(), result.walls.end(), [](const auto& w) { return w.inferred(); });
   result.message = std::to_string(result.walls.size()) + " walls";
+  if (hidden > 0)
+    result.message += ", " + std::to_string(hidden) + " of them not seen but inferred (perpendicular between the parallel walls they join)";
   if (result.voxel_overflow) result.message += "; VoxelGrid skipped: the cloud spans too far for 32-bit voxel indices";
   return result;
 }
@@ -342,6 +375,7 @@ RoomSettings room_settings_from_config(const Config& section) {
   s.polygon.support_reach = polygon.number("support_reach", s.polygon.support_reach, 0.01, 10);
   s.polygon.top_margin = polygon.number("top_margin", s.polygon.top_margin, 0, 10);
   s.polygon.top_band = polygon.number("top_band", s.polygon.top_band, 0.01, 10);
+  s.polygon.min_hidden_wall = polygon.number("min_hidden_wall", s.polygon.min_hidden_wall, 0.01, 100);
   const Config adjustment = section.section("adjustment");
   s.adjustment.enabled = adjustment.flag("enabled", s.adjustment.enabled);
   s.adjustment.estimate_device = adjustment.flag("estimate_device", s.adjustment.estimate_device);
@@ -352,6 +386,7 @@ RoomSettings room_settings_from_config(const Config& section) {
   s.adjustment.bootstrap = static_cast<int>(adjustment.integer("bootstrap", s.adjustment.bootstrap, 0, 100000));
   s.opening_min_width = section.number("opening_min_width", s.opening_min_width, 0.01, 100);
   s.opening_beyond = section.number("opening_beyond", s.opening_beyond, 0.01, 100);
+  s.beam_divergence = section.number("beam_divergence", s.beam_divergence, 0, 0.1);
   return s;
 }
 

@@ -25,7 +25,8 @@ struct Block {
 
 struct System {
   std::vector<Block> blocks;
-  Eigen::VectorXd prior;  // g: diagonal prior weights
+  Eigen::VectorXd prior;       // g: diagonal prior weights
+  Eigen::VectorXd prior_mean;  // g: what they pull towards (an inferred wall's line; zero otherwise)
 };
 
 System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings& settings, double variance) {
@@ -61,6 +62,13 @@ System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings
     }
   }
   system.prior = Eigen::VectorXd::Zero(g);
+  system.prior_mean = Eigen::VectorXd::Zero(g);
+  for (size_t k = 0; k < walls.size(); ++k) {
+    if (!walls[k].inferred) continue;  // no points: its line is held where it was placed
+    system.prior[2 * k] = variance / std::max(1e-6, walls[k].offset_sigma * walls[k].offset_sigma);
+    system.prior_mean[2 * k] = walls[k].offset;
+    system.prior[2 * k + 1] = 1e12;
+  }
   if (!settings.estimate_device) {  // held at zero
     system.prior.tail(3).setConstant(1e12);
     return system;
@@ -76,7 +84,7 @@ System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings
 // is `value` instead of zero: the walls' unknowns re-solved with it held there.
 Eigen::VectorXd held_at(const System& system, size_t term, double value) {
   const auto g = system.prior.size();
-  Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(g, g);
+  Eigen::MatrixXd normal = system.prior.asDiagonal();
   for (const auto& block : system.blocks) normal += block.normal;
   const Eigen::Index walls = g - 3, index = walls + static_cast<Eigen::Index>(term);
   const Eigen::VectorXd shift = normal.topLeftCorner(walls, walls).ldlt().solve(-normal.block(0, index, walls, 1) * value);
@@ -88,7 +96,7 @@ Eigen::VectorXd held_at(const System& system, size_t term, double value) {
 // The unknowns for blocks weighted by `weights` (a bootstrap's counts).
 Eigen::VectorXd solve(const System& system, const std::vector<double>& weights) {
   Eigen::MatrixXd normal = system.prior.asDiagonal();
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(system.prior.size());
+  Eigen::VectorXd rhs = system.prior.cwiseProduct(system.prior_mean);
   for (size_t j = 0; j < system.blocks.size(); ++j) {
     if (weights[j] == 0) continue;
     normal += weights[j] * system.blocks[j].normal;
@@ -123,8 +131,10 @@ Outline outline(const std::vector<WallLine>& walls, const Eigen::VectorXd& x, co
 
 AdjustedWalls adjust_walls(const std::vector<WallLine>& walls, const AdjustmentSettings& settings) {
   if (walls.size() < 3) throw std::invalid_argument("adjust_walls needs at least 3 walls");
-  double variance = 0;
-  for (const auto& wall : walls) variance += wall.rms * wall.rms / walls.size();
+  double variance = 0;  // of the seen walls' points
+  size_t seen = 0;
+  for (const auto& wall : walls) variance += wall.inferred ? 0 : wall.rms * wall.rms, seen += !wall.inferred;
+  variance /= static_cast<double>(std::max<size_t>(1, seen));
   const System system = build_system(walls, settings, std::max(variance, 1e-6));
   const size_t bins = system.blocks.size(), count = walls.size();
   const Eigen::VectorXd x = solve(system, std::vector<double>(bins, 1.0));
@@ -165,10 +175,18 @@ AdjustedWalls adjust_walls(const std::vector<WallLine>& walls, const AdjustmentS
   std::vector<double> model_lengths(count, 0);
   double model_area = 0;
   const double device_sigmas[3] = {settings.range_bias_prior, settings.lever_arm_prior, settings.pitch_error_prior_deg * kDegree};
-  for (size_t term = 0; term < 3 && !settings.estimate_device; ++term) {
-    const Outline shifted = outline(walls, x + held_at(system, term, device_sigmas[term]));
+  auto add_model_term = [&](const Eigen::VectorXd& shifted_x) {
+    const Outline shifted = outline(walls, shifted_x);
     for (size_t i = 0; i < count; ++i) model_lengths[i] += std::pow(shifted.lengths[i] - best.lengths[i], 2);
     model_area += std::pow(shifted.area - best.area, 2);
+  };
+  for (size_t term = 0; term < 3 && !settings.estimate_device; ++term)
+    add_model_term(x + held_at(system, term, device_sigmas[term]));
+  for (size_t k = 0; k < count; ++k) {  // where an inferred wall was placed: its seen corner's uncertainty
+    if (!walls[k].inferred) continue;
+    Eigen::VectorXd shifted_x = x;
+    shifted_x[2 * k] += walls[k].offset_sigma;
+    add_model_term(shifted_x);
   }
   for (size_t i = 0; i < count; ++i) {
     const double mean = sum[i] / n;

@@ -29,6 +29,12 @@ double coverage(const std::vector<double>& values, double low, double high, doub
 
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 
+// A wall where the turn around the scanner sees it: the angles of its first and last rays.
+struct SeenWall {
+  size_t wall;
+  double first, last;  // rad, counter-clockwise; first may be negative where the run wraps
+};
+
 bool segments_cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c, const Eigen::Vector2d& d) {
   const double d1 = cross(b - a, c - a), d2 = cross(b - a, d - a), d3 = cross(d - c, a - c), d4 = cross(d - c, b - c);
   return ((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0));
@@ -46,34 +52,146 @@ bool reaches_top(const WallLine& wall, const ViewLimits& view, const PolygonSett
 }
 
 void drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
-                    std::vector<size_t>& order) {
+                    std::vector<SeenWall>& order) {
   const double min_sine = std::sin(settings.min_wall_angle_deg * M_PI / 180);
   bool changed = true;
   while (changed && order.size() >= 3) {
     changed = false;
     for (size_t i = 0; i < order.size() && !changed; ++i) {
       const size_t next = (i + 1) % order.size();
-      const WallLine& a = walls[order[i]];
-      const WallLine& b = walls[order[next]];
+      const WallLine& a = walls[order[i].wall];
+      const WallLine& b = walls[order[next].wall];
       if (std::abs(cross(a.normal, b.normal)) >= min_sine || a.normal.dot(b.normal) < 0) continue;
       const size_t nearer = a.offset < b.offset ? i : next;
-      if (reaches_top(walls[order[nearer]], view, settings)) continue;  // a wall (an alcove's side is missing)
+      if (reaches_top(walls[order[nearer].wall], view, settings)) continue;  // a wall (an alcove's side is missing)
       order.erase(order.begin() + static_cast<long>(nearer));
       changed = true;
     }
     // Dropping one may leave the same wall on both sides of the gap.
     for (size_t i = 0; i + 1 < order.size();) {
-      if (order[i] == order[i + 1]) {
+      if (order[i].wall == order[i + 1].wall) {
+        order[i].last = order[i + 1].last;
         order.erase(order.begin() + static_cast<long>(i) + 1);
       } else {
         ++i;
       }
     }
-    if (order.size() > 1 && order.front() == order.back()) order.pop_back();
+    if (order.size() > 1 && order.front().wall == order.back().wall) {
+      order.front().first = order.back().first;
+      order.pop_back();
+    }
+  }
+}
+
+// Where the ray at `angle` meets a wall's line, as an along-position on it.
+double along_at(const WallLine& wall, double angle) {
+  const Eigen::Vector2d ray(std::cos(angle), std::sin(angle));
+  return wall.direction().dot(ray * (wall.offset / std::max(1e-9, wall.normal.dot(ray))));
+}
+
+// Whether a seen wall has points at wall heights well past a corner (`direction` +1: past its
+// end side, -1: its start side): it goes on behind its neighbour, so the corner is not one
+// (the neighbour's end stands in front of it, and a wall between them is hidden).
+bool runs_past(const WallLine& wall, const Eigen::Vector2d& corner, int direction) {
+  constexpr double kPast = 0.25, kReach = 0.05, kLow = 0.3, kHigh = 1.5;  // m
+  if (wall.inferred) return false;
+  const double along = wall.direction().dot(corner) + direction * kPast;
+  return wall.profile.has_points(along, kReach, wall.profile.base + kLow, wall.profile.base + kHigh);
+}
+
+// Between parallel neighbours one behind the other, the wall the scanner could not see:
+// where the turn leaves the nearer wall (its end, a corner seen) the farther one is seen from
+// the shadow's edge on, away from where the hidden wall meets it. Otherwise something else
+// hides the gap, or the wall would have faced the scanner (a door's far side seen through the
+// door): no wall is inferred, and the outline will not close.
+void insert_hidden_walls(std::vector<WallLine>& walls, const PolygonSettings& settings, std::vector<SeenWall>& order) {
+  constexpr double kShadowTolerance = 0.3;  // m along the farther wall between the shadow's edge and its first points
+  constexpr double kEdge = 0.05;            // m: the shadow's edge, as the nearer wall's end is known
+  constexpr double kParallel = 10 * M_PI / 180;  // closer to parallel than a corner could be, yet not one wall
+  for (size_t i = 0; order.size() >= 2 && i < order.size(); ++i) {
+    const size_t next = (i + 1) % order.size();
+    const WallLine before = walls[order[i].wall], after = walls[order[next].wall];
+    if (before.inferred || after.inferred || !hides_a_wall(before, after, kParallel, settings.min_hidden_wall)) continue;
+    const bool before_nearer = before.offset < after.offset;
+    const WallLine& nearer = before_nearer ? before : after;
+    const WallLine& farther = before_nearer ? after : before;
+    const double nearer_angle = before_nearer ? order[i].last : order[next].first;   // the turn's last ray on it
+    const double farther_angle = before_nearer ? order[next].first : order[i].last;  // and first on the farther
+    const double end = along_at(nearer, nearer_angle);
+    const double shadow = along_at(farther, nearer_angle), first_seen = along_at(farther, farther_angle);
+    if (std::abs(first_seen - shadow) > kShadowTolerance) continue;
+    WallLine hidden = infer_hidden_wall(before, after, end);
+    const double foot = farther.direction().dot(intersect_lines(farther.normal, farther.offset, hidden.normal, hidden.offset));
+    if (before_nearer ? foot > shadow + kEdge : foot < shadow - kEdge) continue;
+    walls.push_back(std::move(hidden));
+    order.insert(order.begin() + static_cast<long>(i) + 1, SeenWall{walls.size() - 1, nearer_angle, farther_angle});
+    ++i;
   }
 }
 
 }  // namespace
+
+bool hides_a_wall(const WallLine& before, const WallLine& after, double angle, double min_step) {
+  return before.normal.dot(after.normal) > std::cos(angle) && std::abs(before.offset - after.offset) >= min_step;
+}
+
+WallLine infer_hidden_wall(const WallLine& before, const WallLine& after, double nearer_end) {
+  const WallLine& nearer = before.offset < after.offset ? before : after;
+  const WallLine& farther = before.offset < after.offset ? after : before;
+  WallLine hidden;
+  hidden.inferred = true;
+  hidden.normal = nearer_end >= 0 ? nearer.direction() : Eigen::Vector2d(-nearer.direction());
+  hidden.offset = std::abs(nearer_end);
+  // Its extent: from the nearer wall's line to the farther one's, along its own direction.
+  const Eigen::Vector2d seen = intersect_lines(nearer.normal, nearer.offset, hidden.normal, hidden.offset);
+  const Eigen::Vector2d unseen = intersect_lines(farther.normal, farther.offset, hidden.normal, hidden.offset);
+  hidden.start = std::min(hidden.direction().dot(seen), hidden.direction().dot(unseen));
+  hidden.end = std::max(hidden.direction().dot(seen), hidden.direction().dot(unseen));
+  hidden.z_low = std::min(nearer.z_low, farther.z_low);
+  hidden.z_high = std::max(nearer.z_high, farther.z_high);
+  return hidden;
+}
+
+WallEnd wall_end(const WallLine& wall, double near, bool at_end, const std::vector<Eigen::Vector3f>& points, double band,
+                 double max_gap) {
+  constexpr size_t kLast = 10;        // gaps whose median tells how finely the end is sampled
+  constexpr double kDistinct = 0.01;  // m: closer points are one sample position
+  constexpr double kBack = 0.3;    // m inside `near` the walk starts (not from the wall's middle: a
+                                   // door on the way would stop it, and one line may hold two walls)
+  const double sign = at_end ? 1 : -1;
+  const double start = near - sign * kBack;
+  // Where each point's ray meets the line, not the point: range noise moves a point along its
+  // ray, and the most stretched of many would overshoot the end by a few centimetres.
+  std::vector<double> along;  // from the start, towards the end
+  for (const auto& p : points) {
+    const Eigen::Vector2d xy = p.head<2>().cast<double>();
+    const double facing = wall.normal.dot(xy);
+    if (facing <= 1e-6 || std::abs(facing - wall.offset) > band) continue;
+    const double s = sign * (wall.direction().dot(xy * (wall.offset / facing)) - start);
+    if (s >= 0) along.push_back(s);
+  }
+  std::sort(along.begin(), along.end());
+  size_t last = 0;
+  while (last + 1 < along.size() && along[last + 1] - along[last] <= max_gap) ++last;
+  WallEnd end;
+  if (along.empty()) {
+    end.along = near;
+    end.spacing = max_gap;
+    return end;
+  }
+  // The sampling step there: the gaps between distinct positions (revolutions sampling the same
+  // yaws stack their points). The last sample falls short of the true end by up to a step.
+  std::vector<double> gaps;
+  for (size_t i = last; i > 0 && gaps.size() < kLast; --i)
+    if (along[i] - along[i - 1] > kDistinct) gaps.push_back(along[i] - along[i - 1]);
+  end.spacing = kDistinct;
+  if (!gaps.empty()) {
+    std::nth_element(gaps.begin(), gaps.begin() + static_cast<long>(gaps.size() / 2), gaps.end());
+    end.spacing = gaps[gaps.size() / 2];
+  }
+  end.along = start + sign * along[last];
+  return end;
+}
 
 WallLine fit_wall(std::vector<Eigen::Vector3f> inliers) {
   WallLine wall;
@@ -171,11 +289,12 @@ WallProfile wall_profile(const WallLine& wall, const std::vector<Eigen::Vector3f
   return profile;
 }
 
-std::optional<Polygon> room_polygon(const std::vector<WallLine>& walls, const ViewLimits& view,
+std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimits& view,
                                     const PolygonSettings& settings, std::string& why) {
   // The nearest enclosing wall in each direction, a quarter of a degree at a time. A wall
   // that does not reach the top of the view is furniture when a wall stands behind it.
   constexpr int kSteps = 1440;
+  constexpr double kFloorBand = 0.15;  // m over the lowest point near a wall's line
   std::vector<int> seen(kSteps, -1);
   struct Hit {
     double t;
@@ -192,7 +311,11 @@ std::optional<Polygon> room_polygon(const std::vector<WallLine>& walls, const Vi
       const double t = walls[w].offset / facing;
       const double along = walls[w].direction().dot(t * ray);
       if (along < walls[w].start - settings.extent_tolerance || along > walls[w].end + settings.extent_tolerance) continue;
-      if (walls[w].profile.has_points(along, settings.support_reach)) hits.push_back({t, static_cast<int>(w)});
+      // Points at a wall's own heights: the floor and ceiling run on under an alcove or a
+      // chimney breast's side, where no wall stands on the line.
+      const double top = std::min(view.top, t * view.tan_elevation) - settings.top_margin;
+      if (walls[w].profile.has_points(along, settings.support_reach, walls[w].profile.base + kFloorBand, top))
+        hits.push_back({t, static_cast<int>(w)});
     }
     if (hits.empty()) continue;
     std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) { return a.t < b.t; });
@@ -207,35 +330,50 @@ std::optional<Polygon> room_polygon(const std::vector<WallLine>& walls, const Vi
     }
   }
   // Runs of one wall around the turn; short runs are clutter.
-  std::vector<std::pair<int, int>> runs;  // wall, length in steps
+  struct Run {
+    int wall, first, length;  // steps
+  };
+  std::vector<Run> runs;
   for (int step = 0; step < kSteps; ++step) {
-    if (!runs.empty() && runs.back().first == seen[step]) {
-      ++runs.back().second;
+    if (!runs.empty() && runs.back().wall == seen[step]) {
+      ++runs.back().length;
     } else {
-      runs.push_back({seen[step], 1});
+      runs.push_back({seen[step], step, 1});
     }
   }
-  if (runs.size() > 1 && runs.front().first == runs.back().first) {
-    runs.front().second += runs.back().second;
+  if (runs.size() > 1 && runs.front().wall == runs.back().wall) {
+    runs.front().first = runs.back().first - kSteps;
+    runs.front().length += runs.back().length;
     runs.pop_back();
   }
   const int min_steps = static_cast<int>(settings.min_run_deg / 360.0 * kSteps);
   const int max_gap_steps = static_cast<int>(settings.max_gap_deg / 360.0 * kSteps);
-  Polygon polygon;
-  for (const auto& [wall, length] : runs) {
-    if (wall < 0) {  // corners and occlusions leave short gaps; corners come from intersections
-      if (length > max_gap_steps) {
-        why = "no wall seen over " + std::to_string(length / 4) + " degrees: the walls do not close a room";
+  const double step_angle = 2 * M_PI / kSteps;
+  std::vector<SeenWall> order;
+  for (const Run& run : runs) {
+    if (run.wall < 0) {  // corners and occlusions leave short gaps; corners come from intersections
+      if (run.length > max_gap_steps) {
+        why = "no wall seen over " + std::to_string(run.length / 4) + " degrees: the walls do not close a room";
         return std::nullopt;
       }
       continue;
     }
-    if (length < min_steps) continue;
-    if (!polygon.walls.empty() && polygon.walls.back() == static_cast<size_t>(wall)) continue;
-    polygon.walls.push_back(static_cast<size_t>(wall));
+    if (run.length < min_steps) continue;
+    const double first = run.first * step_angle, last = (run.first + run.length - 1) * step_angle;
+    if (!order.empty() && order.back().wall == static_cast<size_t>(run.wall)) {
+      order.back().last = last;
+      continue;
+    }
+    order.push_back({static_cast<size_t>(run.wall), first, last});
   }
-  if (polygon.walls.size() > 1 && polygon.walls.front() == polygon.walls.back()) polygon.walls.pop_back();
-  drop_occluders(walls, view, settings, polygon.walls);
+  if (order.size() > 1 && order.front().wall == order.back().wall) {
+    order.front().first = order.back().first - 2 * M_PI;
+    order.pop_back();
+  }
+  drop_occluders(walls, view, settings, order);
+  insert_hidden_walls(walls, settings, order);
+  Polygon polygon;
+  for (const auto& seen_wall : order) polygon.walls.push_back(seen_wall.wall);
   if (polygon.walls.size() < 3) {
     why = "only " + std::to_string(polygon.walls.size()) + " walls around the scanner: not a room";
     return std::nullopt;
@@ -263,6 +401,12 @@ std::optional<Polygon> room_polygon(const std::vector<WallLine>& walls, const Vi
         (corner.array() > high.array() + settings.corner_margin).any()) {
       why = "walls " + std::to_string(i == 0 ? count : i) + " and " + std::to_string(i + 1) +
             " meet outside the scanned area: the walls do not close a room";
+      return std::nullopt;
+    }
+    if (runs_past(a, corner, +1) || runs_past(b, corner, -1)) {
+      why = "wall " + std::to_string(runs_past(a, corner, +1) ? (i == 0 ? count : i) : i + 1) +
+            " runs on past its corner with wall " + std::to_string(runs_past(a, corner, +1) ? i + 1 : (i == 0 ? count : i)) +
+            ": a wall between them is not seen, the walls do not close a room";
       return std::nullopt;
     }
     polygon.corners.push_back(corner);

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -10,16 +11,23 @@ using namespace scanbus::room_measurement;
 
 namespace {
 
-// Points on the vertical plane through a and b, floor to ceiling, with range-like noise.
+// Points on the vertical plane through a and b, floor to ceiling, with noise across the wall
+// or, `along_ray`, along each point's ray from the scanner at the origin (as a range error).
 void add_wall(std::vector<Eigen::Vector3f>& points, Eigen::Vector2f a, Eigen::Vector2f b, std::mt19937& random,
-              float noise = 0.01f, float z_low = -1.2f, float z_high = 1.3f) {
+              float noise = 0.01f, float z_low = -1.2f, float z_high = 1.3f, bool along_ray = false) {
   std::normal_distribution<float> jitter(0, noise);
   const Eigen::Vector2f along = b - a;
   const Eigen::Vector2f normal = Eigen::Vector2f(-along.y(), along.x()).normalized();
   const int columns = static_cast<int>(along.norm() / 0.03f);
   for (int i = 0; i <= columns; ++i)
     for (float z = z_low; z <= z_high; z += 0.05f) {
-      const Eigen::Vector2f xy = a + along * (static_cast<float>(i) / columns) + normal * jitter(random);
+      const Eigen::Vector2f on_wall = a + along * (static_cast<float>(i) / columns);
+      if (along_ray) {
+        const Eigen::Vector3f p(on_wall.x(), on_wall.y(), z);
+        points.push_back(p * (1 + jitter(random) / p.norm()));
+        continue;
+      }
+      const Eigen::Vector2f xy = on_wall + normal * jitter(random);
       points.emplace_back(xy.x(), xy.y(), z);
     }
 }
@@ -89,6 +97,97 @@ TEST(RoomMeasurement, TallCupboardInFrontOfAWallIsNotAWall) {
   ASSERT_EQ(result.status, RoomStatus::Ok) << result.message;
   EXPECT_EQ(result.walls.size(), 4u);
   EXPECT_NEAR(result.area, 17.5, 0.05);
+}
+
+// A chimney breast (1.2 m wide, 0.6 m deep) on the wall at y = 2, the scanner to its left:
+// its right side faces away and the main wall behind its right corner lies in its shadow.
+// The hidden side is inferred (perpendicular, through the front's last points), its far
+// corner marked inferred, and the outline and area come out right.
+TEST(RoomMeasurement, HiddenSideOfAChimneyBreastIsInferred) {  // 2 cm range noise along the rays
+  std::mt19937 random(4);
+  std::vector<Eigen::Vector3f> points;
+  add_wall(points, {-2, -1.5f}, {3, -1.5f}, random, 0.02f, -1.2f, 1.3f, true);
+  add_wall(points, {3, -1.5f}, {3, 2}, random, 0.02f, -1.2f, 1.3f, true);
+  add_wall(points, {3, 2}, {1.7f * 2 / 1.4f, 2}, random, 0.02f, -1.2f, 1.3f, true);  // from the shadow's edge on
+  add_wall(points, {1.7f, 1.4f}, {0.5f, 1.4f}, random, 0.02f, -1.2f, 1.3f, true);    // the breast's front
+  add_wall(points, {0.5f, 1.4f}, {0.5f, 2}, random, 0.02f, -1.2f, 1.3f, true);       // its left side, seen
+  add_wall(points, {0.5f, 2}, {-2, 2}, random, 0.02f, -1.2f, 1.3f, true);
+  add_wall(points, {-2, 2}, {-2, -1.5f}, random, 0.02f, -1.2f, 1.3f, true);
+  const auto result = measure_room(points, RoomSettings{});
+  ASSERT_EQ(result.status, RoomStatus::Ok) << result.message;
+  ASSERT_EQ(result.walls.size(), 8u) << result.message;
+  EXPECT_NEAR(result.area, 5.0 * 3.5 - 1.2 * 0.6, 0.03);
+  size_t hidden = 0;
+  for (size_t i = 0; i < result.walls.size(); ++i) {
+    const auto& wall = result.walls[i];
+    if (!wall.inferred()) continue;
+    ++hidden;
+    EXPECT_NEAR(wall.length, 0.6, 0.01);
+    EXPECT_GT(wall.length_sigma, 0.0);
+    EXPECT_NEAR(std::abs(wall.line.normal.x()), 1.0, 1e-6) << "perpendicular to the front";
+    EXPECT_NEAR(wall.line.offset, 1.7, 0.01);
+    // Its corner on the front was seen, its corner on the main wall behind is inferred.
+    const size_t count = result.walls.size();
+    const Eigen::Vector2d a = result.corners[i], b = result.corners[(i + 1) % count];
+    const bool a_is_front = std::abs(a.y() - 1.4) < 0.02;
+    EXPECT_NEAR((a_is_front ? a : b).y(), 1.4, 0.02);
+    EXPECT_NEAR((a_is_front ? b : a).y(), 2.0, 0.02);
+    EXPECT_FALSE(result.corner_inferred[a_is_front ? i : (i + 1) % count]);
+    EXPECT_TRUE(result.corner_inferred[a_is_front ? (i + 1) % count : i]);
+  }
+  EXPECT_EQ(hidden, 1u);
+  EXPECT_EQ(std::count(result.corner_inferred.begin(), result.corner_inferred.end(), true), 1);
+  EXPECT_NE(result.message.find("inferred"), std::string::npos) << result.message;
+}
+
+// A door in the wall at y = 2 (x 0.5 to 1.3, its lintel above 0.8 m) and a corridor's wall
+// at y = 3 seen through it: parallel neighbours one behind the other again, but the far wall
+// is seen across where a hidden wall would meet it, so that wall would have faced the
+// scanner. No wall is inferred: the room is the box, the door an opening.
+// The breast reaches to 0.4 m of the wall at x = 3: its hidden side and the main wall behind
+// it are both out of view, and the wall at x = 3 is seen on past the breast's front line.
+// Front and that wall would meet in a corner that is none: the room is refused, saying why.
+TEST(RoomMeasurement, AWallSeenPastItsCornerRefusesTheOutline) {
+  std::mt19937 random(6);
+  std::vector<Eigen::Vector3f> points;
+  add_wall(points, {-2, -1.5f}, {3, -1.5f}, random, 0.02f, -1.2f, 1.3f, true);
+  add_wall(points, {3, -1.5f}, {3, 2}, random, 0.02f, -1.2f, 1.3f, true);
+  add_wall(points, {2.6f, 1.4f}, {0.5f, 1.4f}, random, 0.02f, -1.2f, 1.3f, true);
+  add_wall(points, {0.5f, 1.4f}, {0.5f, 2}, random, 0.02f, -1.2f, 1.3f, true);
+  add_wall(points, {0.5f, 2}, {-2, 2}, random, 0.02f, -1.2f, 1.3f, true);
+  add_wall(points, {-2, 2}, {-2, -1.5f}, random, 0.02f, -1.2f, 1.3f, true);
+  const auto result = measure_room(points, RoomSettings{});
+  EXPECT_EQ(result.status, RoomStatus::WallsDoNotClose) << result.message;
+  EXPECT_NE(result.message.find("runs on past its corner"), std::string::npos) << result.message;
+}
+
+TEST(RoomMeasurement, WhatIsSeenThroughADoorIsNoAlcove) {
+  std::mt19937 random(5);
+  std::vector<Eigen::Vector3f> points;
+  add_wall(points, {-2, -1.5f}, {3, -1.5f}, random);
+  add_wall(points, {3, -1.5f}, {3, 2}, random);
+  add_wall(points, {3, 2}, {1.3f, 2}, random);
+  add_wall(points, {1.3f, 2}, {0.5f, 2}, random, 0.01f, 0.8f, 1.3f);  // the lintel
+  add_wall(points, {0.5f, 2}, {-2, 2}, random);
+  add_wall(points, {-2, 2}, {-2, -1.5f}, random);
+  add_wall(points, {1.95f, 3}, {0.75f, 3}, random, 0.01f, -1.2f, 0.8f);  // through the door
+  const auto result = measure_room(points, RoomSettings{});
+  ASSERT_EQ(result.status, RoomStatus::Ok) << result.message;
+  ASSERT_EQ(result.walls.size(), 4u) << result.message;
+  for (const auto& wall : result.walls) EXPECT_FALSE(wall.inferred());
+  EXPECT_NEAR(result.area, 17.5, 0.05);
+  size_t openings = 0;
+  for (const auto& wall : result.walls) openings += wall.openings.size();
+  EXPECT_EQ(openings, 1u);
+
+  // An opening to the ceiling (no lintel): the turn goes wall, corridor, wall. The corridor's
+  // wall is seen where hidden walls would meet it: none is inferred, and no room is claimed.
+  points.erase(std::remove_if(points.begin(), points.end(),
+                              [](const auto& p) { return std::abs(p.y() - 2) < 0.05f && p.x() > 0.5f && p.x() < 1.3f; }),
+               points.end());
+  const auto archway = measure_room(points, RoomSettings{});
+  for (const auto& wall : archway.walls) EXPECT_FALSE(wall.inferred());
+  EXPECT_NE(archway.status, RoomStatus::Ok) << archway.message;
 }
 
 TEST(RoomMeasurement, OpenSideIsNotARoom) {

@@ -67,11 +67,19 @@ SweepSummary summary_of(const std::string& name, const std::vector<const RoomCas
     s.measurable += c->measurable;
     switch (c->verdict) {
       case Verdict::Measured: ++s.measured; break;
+      case Verdict::Inferred: ++s.inferred; break;
       case Verdict::Wrong: ++s.wrong; break;
       case Verdict::Refused: ++s.refused; break;
       case Verdict::RefusedWrongly: ++s.refused_wrongly; break;
     }
     if (c->verdict == Verdict::Wrong || (c->verdict == Verdict::Measured && c->max_wall_error() > 0.02)) ++s.ok_over_2cm;
+    if (c->verdict == Verdict::Inferred) {  // wall errors and sigmas count; the 1 cm target is for seen rooms
+      for (const auto& w : c->walls) {
+        wall_errors.push_back(std::abs(w.error()));
+        one_sigma += std::abs(w.error()) <= w.sigma;
+        two_sigma += std::abs(w.error()) <= 2 * w.sigma;
+      }
+    }
     if (c->ceiling_height && c->true_ceiling_height) {
       const double e = std::abs(*c->ceiling_height - *c->true_ceiling_height);
       s.worst_ceiling_error = std::max(s.worst_ceiling_error.value_or(0.0), e);
@@ -106,6 +114,7 @@ SweepSummary summary_of(const std::string& name, const std::vector<const RoomCas
 const char* verdict_name(Verdict verdict) {
   switch (verdict) {
     case Verdict::Measured: return "measured";
+    case Verdict::Inferred: return "inferred";
     case Verdict::Wrong: return "wrong";
     case Verdict::Refused: return "refused";
     case Verdict::RefusedWrongly: return "refused_wrongly";
@@ -159,7 +168,8 @@ RoomCase evaluate_room(const sim::GeneratedRoom& generated, const room_measureme
     return c;
   }
   c.walls = *matched;
-  c.verdict = Verdict::Measured;
+  const bool inferred = std::any_of(result.walls.begin(), result.walls.end(), [](const auto& w) { return w.inferred(); });
+  c.verdict = inferred ? Verdict::Inferred : Verdict::Measured;
   return c;
 }
 

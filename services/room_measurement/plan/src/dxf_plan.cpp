@@ -14,8 +14,9 @@ namespace {
 
 using room_measurement::RoomResult;
 
-// ACI colours: walls white/black by background, openings cyan, dimensions green, text yellow.
-constexpr int kWallColour = 7, kOpeningColour = 4, kDimensionColour = 3, kTextColour = 2;
+// ACI colours: walls white/black by background, openings cyan, dimensions green, text yellow,
+// inferred walls magenta.
+constexpr int kWallColour = 7, kOpeningColour = 4, kDimensionColour = 3, kTextColour = 2, kInferredColour = 6;
 constexpr double kTextHeight = 0.12;        // m on the drawing: legible at a room's 1:50
 constexpr double kDimensionOffset = 0.35;   // m outside the wall: clear of it at a room's 1:50
 
@@ -45,10 +46,11 @@ void write_preamble(DL_Dxf& dxf, DL_WriterA& dw) {
   dxf.writeLinetype(dw, DL_LinetypeData("BYLAYER", "BYLAYER", 0, 0, 0.0));
   dxf.writeLinetype(dw, DL_LinetypeData("CONTINUOUS", "Continuous", 0, 0, 0.0));
   dw.tableEnd();
-  dw.tableLayers(5);
+  dw.tableLayers(6);
   dxf.writeLayer(dw, DL_LayerData("0", 0), on("", kWallColour));
   dxf.writeLayer(dw, DL_LayerData(kWallLayer, 0), on("", kWallColour));
   dxf.writeLayer(dw, DL_LayerData(kOpeningLayer, 0), on("", kOpeningColour));
+  dxf.writeLayer(dw, DL_LayerData(kInferredLayer, 0), on("", kInferredColour));
   dxf.writeLayer(dw, DL_LayerData(kDimensionLayer, 0), on("", kDimensionColour));
   dxf.writeLayer(dw, DL_LayerData(kTextLayer, 0), on("", kTextColour));
   dw.tableEnd();
@@ -112,6 +114,12 @@ void write_wall(DL_Dxf& dxf, DL_WriterA& dw, const room_measurement::MeasuredWal
                 const Eigen::Vector2d& b) {
   const double length = (b - a).norm();
   const Eigen::Vector2d along = (b - a) / length, outside = wall.line.normal;
+  if (wall.inferred()) {  // not seen: its own layer, and said so beside its length
+    write_line(dxf, dw, a, b, kInferredLayer, kInferredColour);
+    write_text(dxf, dw, (a + b) / 2 - outside * 2 * kTextHeight, "not seen (inferred)");
+    write_dimension(dxf, dw, a, b, outside, metres(wall.length, wall.length_sigma));
+    return;
+  }
   double solid_from = 0;
   for (const auto& opening : wall.openings) {
     const double from = std::clamp(opening.start, solid_from, length);

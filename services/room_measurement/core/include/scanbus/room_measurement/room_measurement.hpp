@@ -34,6 +34,8 @@ struct RoomSettings {
   AdjustmentSettings adjustment;
   double opening_min_width = 0.3;  // m: narrower gaps with returns beyond are not doors or windows
   double opening_beyond = 0.2;     // m past the wall's line a return must lie to be seen through it
+  double beam_divergence = 0.008;  // rad: LIDAR-Lite v3's beam (its spec, 8 mrad); half its footprint
+                                   // blurs where a wall's points end at a corner the scanner sees
   size_t max_horizontal_samples = 50000;  // floor and ceiling are found on a subsample
 };
 
@@ -50,6 +52,7 @@ struct MeasuredWall {
   double length = 0;        // m, corner to corner
   double length_sigma = 0;  // m, one sigma (the wall adjustment's, else the offsets' standard errors)
   std::vector<Opening> openings;  // doors and windows seen through, along the wall from corners[i]
+  bool inferred() const { return line.inferred; }  // not seen (walls.hpp, infer_hidden_wall)
 };
 
 struct RoomResult {
@@ -58,6 +61,7 @@ struct RoomResult {
   std::vector<MeasuredWall> walls;        // in order around the room
   std::vector<WallLine> candidates;       // every wall-like plane found, for diagnosis when no room closes
   std::vector<Eigen::Vector2d> corners;   // corners[i] joins walls[i-1] and walls[i]
+  std::vector<bool> corner_inferred;      // per corner: placed by assumption, not seen (an inferred wall's far end)
   double area = 0, perimeter = 0;
   double area_sigma = 0;  // m^2, one sigma
   double range_bias = 0, lever_arm = 0;  // m: the device's errors the wall adjustment estimated

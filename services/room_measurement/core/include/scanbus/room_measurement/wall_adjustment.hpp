@@ -45,7 +45,9 @@ struct AdjustedWalls {
   double pitch_offset = 0;               // rad, added to the reported pitch
 };
 
-// `walls` in room order with their inliers. Throws std::invalid_argument when fewer than 3.
+// `walls` in room order with their inliers; an inferred wall (no inliers) is held where it was
+// placed, its offset_sigma (its seen corner's uncertainty) added to the sigmas. Throws
+// std::invalid_argument when fewer than 3.
 AdjustedWalls adjust_walls(const std::vector<WallLine>& walls, const AdjustmentSettings& settings);
 
 }  // namespace scanbus::room_measurement

@@ -34,6 +34,7 @@ struct WallLine {
   double length_coverage = 0; // share of 10 cm slots between start and end holding inliers
   std::vector<Eigen::Vector3f> inliers;
   WallProfile profile;
+  bool inferred = false;      // not seen: placed between two parallel walls the scanner saw (infer_hidden_wall)
 
   Eigen::Vector2d direction() const { return {-normal.y(), normal.x()}; }
 };
@@ -56,6 +57,28 @@ struct Polygon {
   std::vector<Eigen::Vector2d> corners;    // corners[i] joins walls[i-1] and walls[i]
 };
 
+// The wall the scanner cannot see between two parallel walls that face it one behind the
+// other (`before` then `after`, counter-clockwise around the scanner): the side of a chimney
+// breast, an alcove or an L's arm, turned away from the scanner. The nearer wall's end on the
+// farther one's side is a corner the scanner saw; the hidden wall runs from there
+// perpendicular to both (an assumption: it is not seen), so its far corner is inferred.
+// `nearer_end` is that end's along-position on the nearer wall.
+WallLine infer_hidden_wall(const WallLine& before, const WallLine& after, double nearer_end);
+
+// Whether `before` and `after` are such a pair: parallel within `angle`, facing the same
+// way, one at least `min_step` behind the other.
+bool hides_a_wall(const WallLine& before, const WallLine& after, double angle, double min_step);
+
+// The along-position where a wall's points end, near `near` (towards its `end` side, else
+// its `start`): its points within `band` of its line, followed from a little inside while no
+// gap is wider than `max_gap` (a corner's last points), moved on by half the sampling step
+// there (the last sample falls short of the end by up to a step), and that step.
+struct WallEnd {
+  double along = 0, spacing = 0;  // m
+};
+WallEnd wall_end(const WallLine& wall, double near, bool at_end, const std::vector<Eigen::Vector3f>& points, double band,
+                 double max_gap);
+
 struct PolygonSettings {
   double min_wall_angle_deg = 30;  // neighbours closer to parallel than this cannot meet in a corner
   double min_run_deg = 2;          // a wall seen over less of the turn is clutter
@@ -67,6 +90,8 @@ struct PolygonSettings {
                                    // sees there (from top - top_margin - top_band to top - top_margin;
                                    // not at the top, where the ceiling's own points lie); furniture
   double top_band = 0.25;          // in front of a wall has none there
+  double min_hidden_wall = 0.1;    // m: parallel neighbours at least this far apart are joined by an
+                                   // inferred wall (the shallowest chimney breasts and alcoves are 0.3 m)
 };
 
 // What the scanner can see above it: the ceiling (or the cloud's top) and its steepest upward
@@ -84,9 +109,10 @@ struct Opening {
 // The room's walls in order: turning once around the scanner (the origin), the room's wall in
 // each direction is the nearest wall the ray meets where the wall has points (the wall above a
 // door counts: what is seen through the door is outside) and that reaches the top of what the
-// scanner sees there (furniture in front of a wall does not); then neighbours are intersected.
-// Fails with a message when the walls do not close a room.
-std::optional<Polygon> room_polygon(const std::vector<WallLine>& walls, const ViewLimits& view,
+// scanner sees there (furniture in front of a wall does not); between parallel neighbours one
+// behind the other a hidden wall is inferred (appended to `walls`, `inferred` set); then
+// neighbours are intersected. Fails with a message when the walls do not close a room.
+std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimits& view,
                                     const PolygonSettings& settings, std::string& why);
 
 // Openings along the wall from corner a to corner b: runs of at least `min_width` where more

@@ -20,7 +20,8 @@ struct WallCheck {
 };
 
 enum class Verdict {
-  Measured,        // ok, every wall matched to a true one
+  Measured,        // ok, every wall matched to a true one, every wall seen
+  Inferred,        // ok, every wall matched to a true one, some not seen but inferred (and said so)
   Wrong,           // ok, but the walls do not match the room's (count or place)
   Refused,         // not ok, and the room could not be measured
   RefusedWrongly,  // not ok, though every wall was in view
@@ -67,10 +68,10 @@ std::vector<RoomCase> evaluate_sweep(const SweepOptions& options, const room_mea
 struct SweepSummary {
   std::string category;  // "all" for the whole sweep
   size_t rooms = 0, measurable = 0;
-  size_t measured = 0, wrong = 0, refused = 0, refused_wrongly = 0;
-  size_t within_target = 0;   // measured with every wall within 1 cm and the area within 0.5 %
+  size_t measured = 0, inferred = 0, wrong = 0, refused = 0, refused_wrongly = 0;
+  size_t within_target = 0;   // measured (every wall seen) with every wall within 1 cm and the area within 0.5 %
   size_t ok_over_2cm = 0;     // status ok with a wall more than 2 cm wrong (or wrong walls)
-  size_t walls = 0;           // matched walls of measured rooms
+  size_t walls = 0;           // matched walls of measured and inferred rooms
   double max_wall_error = 0, p95_wall_error = 0, median_wall_error = 0;  // m, absolute
   double max_area_error = 0, p95_area_error = 0;                          // relative
   double within_1_sigma = 0, within_2_sigma = 0;  // shares of matched walls

@@ -1,4 +1,4 @@
-// RoomResult as DDS messages: RoomMeasurement, and the walls' inliers as a PointCloud2
+// RoomResult as DDS messages and back: RoomMeasurement, and the walls' inliers as a PointCloud2
 // with a colour per wall (x y z rgb, the layout RViz2 colours by).
 #pragma once
 
@@ -10,6 +10,8 @@ namespace scanbus::room_measurement {
 
 scanbus::msg::RoomMeasurement to_message(const RoomResult& result, const std::string& frame_id,
                                          const builtin_interfaces::msg::Time& stamp);
+// What a RoomMeasurement carries, as a RoomResult (no inliers, no candidates, no error histogram).
+RoomResult from_message(const scanbus::msg::RoomMeasurement& message);
 sensor_msgs::msg::PointCloud2 walls_cloud(const RoomResult& result, const std::string& frame_id,
                                           const builtin_interfaces::msg::Time& stamp);
 

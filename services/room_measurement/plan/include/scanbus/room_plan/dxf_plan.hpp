@@ -14,6 +14,7 @@ namespace scanbus::room_plan {
 // Layer names: what a CAD user toggles.
 inline constexpr const char* kWallLayer = "WALLS";
 inline constexpr const char* kOpeningLayer = "OPENINGS";
+inline constexpr const char* kInferredLayer = "INFERRED";  // walls not seen, placed by assumption
 inline constexpr const char* kDimensionLayer = "DIMENSIONS";
 inline constexpr const char* kTextLayer = "ANNOTATIONS";
 
