@@ -206,7 +206,7 @@ void place_hidden_walls(const std::vector<Eigen::Vector3f>& points, const RoomSe
     const WallLine& before = result.walls[(i + count - 1) % count].line;
     const WallLine& after = result.walls[(i + 1) % count].line;
     const bool before_nearer = before.offset < after.offset;
-    WallLine nearer = before_nearer ? before : after;
+    const WallLine& nearer = before_nearer ? before : after;
     std::vector<Eigen::Vector3f> body;  // its height away from floor and ceiling, whose points run on past the corner
     for (const auto& p : points)
       if (p.z() > nearer.z_low + 0.2 && p.z() < nearer.z_high - 0.2) body.push_back(p);

@@ -83,11 +83,13 @@ void drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, 
   }
 }
 
-// Where the ray at `angle` meets a wall's line, as an along-position on it.
-double along_at(const WallLine& wall, double angle) {
-  const Eigen::Vector2d ray(std::cos(angle), std::sin(angle));
-  return wall.direction().dot(ray * (wall.offset / std::max(1e-9, wall.normal.dot(ray))));
+// Where the ray from the scanner through `point` meets a wall's line, as an along-position on it.
+double along_on_ray(const WallLine& wall, const Eigen::Vector2d& point) {
+  return wall.direction().dot(point * (wall.offset / std::max(1e-9, wall.normal.dot(point))));
 }
+
+// The same for the ray at `angle`.
+double along_at(const WallLine& wall, double angle) { return along_on_ray(wall, {std::cos(angle), std::sin(angle)}); }
 
 // Whether a seen wall has points at wall heights well past a corner (`direction` +1: past its
 // end side, -1: its start side): it goes on behind its neighbour, so the corner is not one
@@ -110,7 +112,8 @@ void insert_hidden_walls(std::vector<WallLine>& walls, const PolygonSettings& se
   constexpr double kParallel = 10 * M_PI / 180;  // closer to parallel than a corner could be, yet not one wall
   for (size_t i = 0; order.size() >= 2 && i < order.size(); ++i) {
     const size_t next = (i + 1) % order.size();
-    const WallLine before = walls[order[i].wall], after = walls[order[next].wall];
+    const WallLine& before = walls[order[i].wall];  // used only before walls grows below
+    const WallLine& after = walls[order[next].wall];
     if (before.inferred || after.inferred || !hides_a_wall(before, after, kParallel, settings.min_hidden_wall)) continue;
     const bool before_nearer = before.offset < after.offset;
     const WallLine& nearer = before_nearer ? before : after;
@@ -167,7 +170,7 @@ WallEnd wall_end(const WallLine& wall, double near, bool at_end, const std::vect
     const Eigen::Vector2d xy = p.head<2>().cast<double>();
     const double facing = wall.normal.dot(xy);
     if (facing <= 1e-6 || std::abs(facing - wall.offset) > band) continue;
-    const double s = sign * (wall.direction().dot(xy * (wall.offset / facing)) - start);
+    const double s = sign * (along_on_ray(wall, xy) - start);
     if (s >= 0) along.push_back(s);
   }
   std::sort(along.begin(), along.end());
@@ -403,10 +406,11 @@ std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimi
             " meet outside the scanned area: the walls do not close a room";
       return std::nullopt;
     }
-    if (runs_past(a, corner, +1) || runs_past(b, corner, -1)) {
-      why = "wall " + std::to_string(runs_past(a, corner, +1) ? (i == 0 ? count : i) : i + 1) +
-            " runs on past its corner with wall " + std::to_string(runs_past(a, corner, +1) ? i + 1 : (i == 0 ? count : i)) +
-            ": a wall between them is not seen, the walls do not close a room";
+    const bool a_runs_past = runs_past(a, corner, +1);
+    if (a_runs_past || runs_past(b, corner, -1)) {
+      const size_t number_a = i == 0 ? count : i, number_b = i + 1;
+      why = "wall " + std::to_string(a_runs_past ? number_a : number_b) + " runs on past its corner with wall " +
+            std::to_string(a_runs_past ? number_b : number_a) + ": a wall between them is not seen, the walls do not close a room";
       return std::nullopt;
     }
     polygon.corners.push_back(corner);
