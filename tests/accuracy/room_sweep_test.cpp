@@ -1,7 +1,7 @@
 // The room measurement on the seeded sweep of `scanbus eval rooms` (120 rooms, 12 categories,
 // each with a device's imperfections). Guards what holds today (docs/room_evaluation.md) and
-// the sigmas' calibration; the accuracy targets (every wall within 1 cm) are not met yet and
-// are not asserted here.
+// the sigmas' calibration; the accuracy targets (every wall within 1 cm, none ok with a wall
+// 2 cm off) are not met yet: the shares that meet them are guarded instead.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -22,16 +22,23 @@ TEST(RoomSweep, WhatHoldsOnTheSweep) {
                 s.category.c_str(), s.rooms, s.measurable, s.measured, s.inferred, s.wrong, s.refused, s.refused_wrongly,
                 s.median_wall_error, s.p95_wall_error, s.max_wall_error, 100 * s.within_1_sigma, 100 * s.within_2_sigma);
     // Closed rooms, rooms with windows or angled walls, a scanner in a corner: every one measured.
-    if (s.category == "box" || s.category == "windows" || s.category == "angled" || s.category == "near_wall")
+    if (s.category == "box" || s.category == "windows" || s.category == "angled" || s.category == "near_wall") {
       EXPECT_EQ(s.measured, s.rooms) << s.category;
-    if (s.category == "doors") EXPECT_GE(s.measured, 8u) << "doors: what is seen through a door is outside";
+    }
+    if (s.category == "doors") {
+      EXPECT_GE(s.measured, 8u) << "doors: what is seen through a door is outside";
+    }
     // Chimney breasts, alcoves, L and T rooms with one side turned away: that wall inferred.
-    if (s.category == "chimney_breast") EXPECT_GE(s.inferred, 3u) << "hidden sides inferred";
+    if (s.category == "chimney_breast") {
+      EXPECT_GE(s.inferred, 3u) << "hidden sides inferred";
+    }
     if (s.category != "all") continue;
     EXPECT_GE(s.measured, 60u);
     EXPECT_GE(s.inferred, 6u);
-    EXPECT_LE(s.wrong, 6u) << "rooms given status ok with walls that are not the room's";
-    EXPECT_LT(s.median_wall_error, 0.012);
+    EXPECT_LE(s.wrong, 2u) << "rooms given status ok with walls that are not the room's";
+    EXPECT_LT(s.median_wall_error, 0.006);
+    EXPECT_GE(s.within_target, 35u) << "rooms with every wall within 1 cm and the area within 0.5 %";
+    EXPECT_LE(s.ok_over_2cm - s.wrong, 5u) << "rooms with the right walls, one of them more than 2 cm off";
     // The printed sigmas are calibrated: the true error within 1 sigma for 60-75 % of walls,
     // within 2 sigma for at least 93 %.
     EXPECT_GE(s.within_1_sigma, 0.60);

@@ -81,6 +81,6 @@ echo "ok   B's link cut for 17 s (past the lease): no measurements"
 ip -n "$switch" link set to_b up
 restored=$(measurements)
 wait_for_more_than "$restored" 60 || { echo "FAIL: no measurements within 60 s of B's link coming back"; tail -5 "$work/room.log"; exit 1; }
-"$root/tests/support/check_room.py" "$work/measurements.jsonl" 0.01 "ok   link back: measurements again; the last"
+"$root/tests/support/check_room.py" "$work/measurements.jsonl" 0.02 "ok   link back: measurements again; the last"
 for pid in "${pids[@]}"; do kill -0 "$pid" 2> /dev/null || { echo "FAIL: a process died"; exit 1; }; done
 echo "multihost: ok"

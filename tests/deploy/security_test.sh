@@ -36,7 +36,7 @@ sleep 3
   --wait-timeout 30 > "$work/replay.log" 2>&1
 
 wait "$secure_reader" || { echo "FAIL: no RoomMeasurement on the secure profile"; cat "$work/room.log" "$work/secure.log"; exit 1; }
-"$root/tests/support/check_room.py" "$work/secure.json" 0.01 "ok   secure services together: replay -> room_measurement -> reader"
+"$root/tests/support/check_room.py" "$work/secure.json" 0.02 "ok   secure services together: replay -> room_measurement -> reader"
 status=0
 wait "$plain_reader" || status=$?
 [ "$status" -ne 0 ] && [ ! -s "$work/plain.json" ] || { echo "FAIL: a participant without security read the room"; exit 1; }

@@ -20,7 +20,7 @@ echo_pid=$!
 sleep 2  # discovery
 "$scanbus" replay "$sample" --rate 0 --topics rt/scanner/scan_cloud --wait-for-readers 1 --json > "$work/replay.json"
 wait "$echo_pid" || { echo "FAIL: no RoomMeasurement"; cat "$work/replay.json" "$work/room.log" "$work/echo.log"; exit 1; }
-"$(dirname "$0")/../support/check_room.py" "$work/measurement.json" 0.01 "replayed room"
+"$(dirname "$0")/../support/check_room.py" "$work/measurement.json" 0.02 "replayed room"
 
 # The same at --rate 0 while room_measurement is frozen (SIGSTOP) for 3 s: scan_cloud is
 # latched (KEEP_LAST 1), so the replay must wait for each cloud's acknowledgement, or the
@@ -41,5 +41,5 @@ sleep 3
 kill -CONT "$room_pid"
 wait "$replay_pid" || { echo "FAIL: replay"; exit 1; }
 wait "$echo_pid" || { echo "FAIL: no RoomMeasurement after the freeze"; cat "$work/replay2.json" "$work/room2.log" "$work/echo2.log"; exit 1; }
-"$(dirname "$0")/../support/check_room.py" "$work/measurement2.json" 0.01 "room replayed into a frozen service"
+"$(dirname "$0")/../support/check_room.py" "$work/measurement2.json" 0.02 "room replayed into a frozen service"
 echo "room sample: ok"

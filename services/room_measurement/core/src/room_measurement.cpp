@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 
 namespace scanbus::room_measurement {
@@ -31,19 +32,34 @@ void measure_lengths(std::vector<MeasuredWall>& walls) {
   }
 }
 
+// Points whose rays meet the wall's line within its extent (kept `band` from its ends, where
+// the neighbouring wall's points come near) and between `z_low` and `z_high`, lying within
+// `band` of the line. Chosen by where the ray meets the line, not by the point: range noise
+// moves a point along its ray, and a cut on the noisy position keeps more short ranges there.
+std::vector<Eigen::Vector3f> points_on_wall(const WallLine& wall, const std::vector<Eigen::Vector3f>& points, double band,
+                                            double z_low = -1e9, double z_high = 1e9) {
+  std::vector<Eigen::Vector3f> near;
+  for (const auto& p : points) {
+    const Eigen::Vector2d xy = p.head<2>().cast<double>();
+    const double distance = wall.normal.dot(xy);
+    if (std::abs(distance - wall.offset) >= band) continue;
+    const double along = wall.along_on_ray(xy), z = p.z() * wall.offset / distance;
+    if (along > wall.start + band && along < wall.end - band && z >= z_low && z <= z_high) near.push_back(p);
+  }
+  return near;
+}
+
 // The walls, corners, lengths and area fitted together with the device's errors.
-void adjust(const AdjustmentSettings& settings, RoomResult& result) {
-  // Floor and ceiling points within a wall's band lie on other planes: they would pull the
-  // device terms (a wall's plane is the model). Without a floor or ceiling, 10 cm of the
-  // wall's own height range goes at that end.
+void adjust(const AdjustmentSettings& settings, const std::vector<Eigen::Vector3f>& points, RoomResult& result) {
+  // The walls' points within the adjustment's band, without those near the floor and
+  // the ceiling: they lie on other planes and would pull the device terms (a wall's plane is
+  // the model). Without a floor or ceiling, 10 cm of the wall's own height range goes at that end.
   std::vector<WallLine> lines;
   for (const auto& wall : result.walls) {
     WallLine line = wall.line;
-    const float low = static_cast<float>(result.floor_z.value_or(wall.line.z_low) + 0.1);
-    const float high = static_cast<float>(result.ceiling_z.value_or(wall.line.z_high) - 0.1);
-    line.inliers.erase(std::remove_if(line.inliers.begin(), line.inliers.end(),
-                                      [&](const Eigen::Vector3f& p) { return p.z() < low || p.z() > high; }),
-                       line.inliers.end());
+    if (!line.inferred)
+      line.inliers = points_on_wall(line, points, settings.band, result.floor_z.value_or(line.z_low) + 0.1,
+                                    result.ceiling_z.value_or(line.z_high) - 0.1);
     lines.push_back(std::move(line));
   }
   const AdjustedWalls adjusted = adjust_walls(lines, settings);
@@ -170,19 +186,14 @@ ViewLimits view_limits(const std::vector<Eigen::Vector3f>& points, const RoomRes
   return view;
 }
 
-// The final fit of a room wall: every filtered point within `band` of its line, away from
-// its ends (where the neighbouring wall's points come within the band), fitted again,
-// twice. RANSAC's inliers are voxel centres cut off at its distance threshold.
+// The final fit of a room wall: every valid point on it (points_on_wall), fitted again, twice.
+// RANSAC's inliers are voxel centres cut off at its distance threshold; the histogram filter's
+// points are no better: a point that range noise carried behind the wall lands in a sparse
+// bin the filter drops, so its survivors sit in front (rooms came out 1-2 cm small).
 WallLine refine_wall(const WallLine& wall, const std::vector<Eigen::Vector3f>& points, double band) {
   WallLine fitted = wall;
   for (int round = 0; round < 2; ++round) {
-    std::vector<Eigen::Vector3f> near;
-    for (const auto& p : points) {
-      const Eigen::Vector2d xy = p.head<2>().cast<double>();
-      const double along = fitted.direction().dot(xy);
-      if (std::abs(fitted.normal.dot(xy) - fitted.offset) < band && along > fitted.start + band && along < fitted.end - band)
-        near.push_back(p);
-    }
+    std::vector<Eigen::Vector3f> near = points_on_wall(fitted, points, band);
     if (near.size() < 10) break;
     const WallLine refit = fit_wall(std::move(near));
     fitted.normal = refit.normal;
@@ -219,6 +230,28 @@ void place_hidden_walls(const std::vector<Eigen::Vector3f>& points, const RoomSe
     result.walls[i].line = hidden;
     result.corner_inferred[before_nearer ? (i + 1) % count : i] = true;
   }
+}
+
+// A surface seen through an opening shallower than `recess_depth` behind it is the back of a
+// recess (an alcove, a bay) whose sides were not found as walls: the outline would cut it off,
+// so the room is refused, saying where. Corridors behind doors are deeper.
+bool refuse_recess(double recess_depth, RoomResult& result) {
+  for (size_t i = 0; i < result.walls.size(); ++i)
+    for (const auto& opening : result.walls[i].openings) {
+      if (opening.depth <= 0 || opening.depth >= recess_depth) continue;
+      char what[200];
+      std::snprintf(what, sizeof what, "wall %zu has a recess %.2f m wide and %.2f m deep at %.2f m along it", i + 1,
+                    opening.width, opening.depth, opening.start);
+      result.status = RoomStatus::WallsDoNotClose;
+      result.message = std::string(what) + " (an alcove or a bay whose sides are not found as walls): the outline would cut it off";
+      result.walls.clear();
+      result.corners.clear();
+      result.corner_inferred.clear();
+      result.area = result.area_sigma = 0;
+      drop_unchecked_heights(result);
+      return true;
+    }
+  return false;
 }
 
 void error_histogram(const std::vector<Eigen::Vector3f>& points, RoomResult& result) {
@@ -294,7 +327,8 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
   }
   for (size_t index : polygon->walls) {
     const WallLine& candidate = candidates[index];
-    MeasuredWall wall{candidate.inferred ? candidate : refine_wall(candidate, filtered, 2 * settings.ransac.distance), 0, 0, 0};
+    MeasuredWall wall;
+    wall.line = candidate.inferred ? candidate : refine_wall(candidate, valid, 2 * settings.ransac.distance);
     wall.points = wall.line.inliers.size();
     result.walls.push_back(std::move(wall));
   }
@@ -306,7 +340,7 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
     result.corners.push_back(intersect_lines(before.normal, before.offset, wall.normal, wall.offset));
   }
   if (settings.adjustment.enabled) {
-    adjust(settings.adjustment, result);  // lengths, sigmas, corners and area
+    adjust(settings.adjustment, valid, result);  // lengths, sigmas, corners and area
   } else {
     measure_lengths(result.walls);
     result.area = polygon_area(result.corners);
@@ -316,6 +350,7 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
     if (!result.walls[i].inferred())  // a wall turned away from the scanner: nothing is seen through it
       result.walls[i].openings = find_openings(result.walls[i].line, result.corners[i], result.corners[(i + 1) % count], valid,
                                              settings.ransac.distance, settings.opening_beyond, settings.opening_min_width);
+  if (refuse_recess(settings.recess_depth, result)) return result;
   for (const auto& wall : result.walls) result.perimeter += wall.length;
   error_histogram(valid, result);
   const auto hidden = std::count_if(result.walls.begin(), result.walls.end(), [](const auto& w) { return w.inferred(); });
@@ -383,8 +418,12 @@ RoomSettings room_settings_from_config(const Config& section) {
   s.adjustment.range_bias_prior = adjustment.number("range_bias_prior", s.adjustment.range_bias_prior, 1e-4, 10);
   s.adjustment.lever_arm_prior = adjustment.number("lever_arm_prior", s.adjustment.lever_arm_prior, 1e-4, 10);
   s.adjustment.pitch_error_prior_deg = adjustment.number("pitch_error_prior", s.adjustment.pitch_error_prior_deg, 1e-3, 45);
+  s.adjustment.band = adjustment.number("band", s.adjustment.band, 0.001, 1);
+  s.adjustment.yaw_error_prior_deg = adjustment.number("yaw_error_prior", s.adjustment.yaw_error_prior_deg, 1e-3, 45);
+
   s.adjustment.bootstrap = static_cast<int>(adjustment.integer("bootstrap", s.adjustment.bootstrap, 0, 100000));
   s.opening_min_width = section.number("opening_min_width", s.opening_min_width, 0.01, 100);
+  s.recess_depth = section.number("recess_depth", s.recess_depth, 0, 100);
   s.opening_beyond = section.number("opening_beyond", s.opening_beyond, 0.01, 100);
   s.beam_divergence = section.number("beam_divergence", s.beam_divergence, 0, 0.1);
   return s;

@@ -4,8 +4,8 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <map>
 #include <random>
 #include <stdexcept>
 
@@ -15,24 +15,30 @@ namespace {
 
 constexpr double kDegree = M_PI / 180;
 
-// One pitch bin's share of the normal equations (the bootstrap resamples whole bins).
-// Unknowns: per wall an offset and a turn, then the range bias, the lever arm and the pitch
-// offset. Each point's row touches five of them.
-struct Block {
-  Eigen::MatrixXd normal;  // g x g
-  Eigen::VectorXd rhs;     // g
+constexpr size_t kDeviceTerms = 5;  // range bias, lever arm, pitch offset, yaw error's sine and cosine
+constexpr double kHeld = 1e12;      // prior weight that holds an unknown where it is
+
+// One point's equation: a . x = y, touching its wall's offset and turn and the device terms.
+struct Row {
+  size_t wall, bin;
+  double a[2 + kDeviceTerms];
+  double y;
 };
 
-struct System {
-  std::vector<Block> blocks;
-  Eigen::VectorXd prior;       // g: diagonal prior weights
-  Eigen::VectorXd prior_mean;  // g: what they pull towards (an inferred wall's line; zero otherwise)
-};
+// The device terms' prior sigmas, in the unknowns' order.
+std::array<double, kDeviceTerms> device_sigmas(const AdjustmentSettings& settings) {
+  const double yaw = settings.yaw_error_prior_deg * kDegree;
+  return {settings.range_bias_prior, settings.lever_arm_prior, settings.pitch_error_prior_deg * kDegree, yaw, yaw};
+}
 
-System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings& settings, double variance) {
-  System system;
-  const size_t g = 2 * walls.size() + 3, bias = g - 3, lever = g - 2, pitch = g - 1;
-  std::map<long, size_t> bin_index;
+// Every usable point of the walls as an equation, linearised at the walls' current lines,
+// handed to `use` (a million points' rows would not fit the cache). Bins group a servo step's
+// rays (the same reported pitch): they share its error; numbered as they first appear.
+template <typename Use>
+void for_each_row(const std::vector<WallLine>& walls, double pitch_bin_deg, Use use) {
+  constexpr size_t kNoBin = ~size_t{0};
+  std::vector<size_t> bin_index(static_cast<size_t>(std::ceil(180 / pitch_bin_deg)) + 2, kNoBin);
+  size_t bins = 0;
   for (size_t k = 0; k < walls.size(); ++k) {
     const Eigen::Vector2d n = walls[k].normal, along = walls[k].direction();
     for (const auto& point : walls[k].inliers) {
@@ -40,53 +46,87 @@ System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings
       const double range = p.norm(), horizontal = p.head<2>().norm();
       if (range < 1e-6 || horizontal < 1e-6) continue;
       const double sin_pitch = horizontal / range, cos_pitch = p.z() / range;
-      const double facing = n.dot(p.head<2>() / horizontal);
+      const Eigen::Vector2d heading = p.head<2>() / horizontal;  // cos and sin of the yaw
+      const double facing = n.dot(heading);
       if (facing * sin_pitch < 0.05) continue;  // grazing: the ray barely meets the wall
       // The regressors at the ray's meeting with the current line, not at the noisy point:
       // range noise in both sides of the equations would bias the turn and the pitch terms.
       const Eigen::Vector3d on_line = p * (walls[k].offset / (facing * sin_pitch * range));
-      const long bin = static_cast<long>(std::floor(std::acos(std::clamp(cos_pitch, -1.0, 1.0)) / kDegree / settings.pitch_bin_deg));
-      auto [it, added] = bin_index.try_emplace(bin, system.blocks.size());
-      if (added) system.blocks.push_back({Eigen::MatrixXd::Zero(g, g), Eigen::VectorXd::Zero(g)});
-      Block& block = system.blocks[it->second];
-      // The line n . q = o through corrected points q = p + b u + L up - range e up, turned by t:
-      // o - t (along . p) - b facing sin + L facing cos - e range facing cos = n . p.
-      const size_t index[5] = {2 * k, 2 * k + 1, bias, lever, pitch};
-      const double a[5] = {1.0, -along.dot(on_line.head<2>()), -facing * sin_pitch, facing * cos_pitch,
-                           -on_line.norm() * facing * cos_pitch};
-      const double y = n.dot(p.head<2>());
-      for (int i = 0; i < 5; ++i) {
-        for (int j = 0; j < 5; ++j) block.normal(index[i], index[j]) += a[i] * a[j];
-        block.rhs[index[i]] += a[i] * y;
-      }
+      const double pitch_deg = std::atan2(horizontal, p.z()) / kDegree;
+      size_t& bin = bin_index[static_cast<size_t>(std::lround(pitch_deg / pitch_bin_deg))];
+      if (bin == kNoBin) bin = bins++;
+      // The line n . q = o through corrected points q = p + b u + L up - range e up, turned by
+      // t, and the ray turned about the pole by the once-per-turn yaw error s sin + c cos:
+      // o - t (along . p) - b facing sin + L facing cos - e range facing cos
+      //   - (s sin + c cos) (n . p across) = n . p.
+      const double across = n.dot(Eigen::Vector2d(-on_line.y(), on_line.x()));  // per radian of yaw
+      use(Row{k, bin,
+              {1.0, -along.dot(on_line.head<2>()), -facing * sin_pitch, facing * cos_pitch,
+               -on_line.norm() * facing * cos_pitch, -across * heading.y(), -across * heading.x()},
+              n.dot(p.head<2>())});
     }
   }
+}
+
+// Unknown index of a row's coefficient `i`: its wall's offset and turn, then the device terms.
+size_t unknown(const Row& row, size_t i, size_t walls) { return i < 2 ? 2 * row.wall + i : 2 * walls + i - 2; }
+
+// One pitch bin's share of the normal equations (the bootstrap resamples whole bins).
+struct Block {
+  Eigen::MatrixXd normal;  // g x g
+  Eigen::VectorXd rhs;     // g
+};
+
+void add_row(const Row& row, size_t walls, Block& block) {
+  size_t u[2 + kDeviceTerms];
+  for (size_t i = 0; i < 2 + kDeviceTerms; ++i) u[i] = unknown(row, i, walls);
+  for (size_t i = 0; i < 2 + kDeviceTerms; ++i) {
+    for (size_t j = 0; j < 2 + kDeviceTerms; ++j) block.normal(u[i], u[j]) += row.a[i] * row.a[j];
+    block.rhs[u[i]] += row.a[i] * row.y;
+  }
+}
+
+struct System {
+  std::vector<Block> blocks;       // per pitch bin
+  std::vector<Block> wall_shares;  // per wall (the jackknife leaves one out)
+  Eigen::VectorXd prior;       // g: diagonal prior weights
+  Eigen::VectorXd prior_mean;  // g: what they pull towards (an inferred wall's line; zero otherwise)
+};
+
+System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings& settings, double variance) {
+  const size_t count = walls.size(), g = 2 * count + kDeviceTerms;
+  const Block zero{Eigen::MatrixXd::Zero(g, g), Eigen::VectorXd::Zero(g)};
+  System system;
+  system.wall_shares.assign(count, zero);
+  for_each_row(walls, settings.pitch_bin_deg, [&](const Row& row) {
+    if (row.bin == system.blocks.size()) system.blocks.push_back(zero);
+    add_row(row, count, system.blocks[row.bin]);
+    add_row(row, count, system.wall_shares[row.wall]);
+  });
   system.prior = Eigen::VectorXd::Zero(g);
   system.prior_mean = Eigen::VectorXd::Zero(g);
-  for (size_t k = 0; k < walls.size(); ++k) {
+  for (size_t k = 0; k < count; ++k) {
     if (!walls[k].inferred) continue;  // no points: its line is held where it was placed
     system.prior[2 * k] = variance / std::max(1e-6, walls[k].offset_sigma * walls[k].offset_sigma);
     system.prior_mean[2 * k] = walls[k].offset;
-    system.prior[2 * k + 1] = 1e12;
+    system.prior[2 * k + 1] = kHeld;
   }
   if (!settings.estimate_device) {  // held at zero
-    system.prior.tail(3).setConstant(1e12);
+    system.prior.tail(kDeviceTerms).setConstant(kHeld);
     return system;
   }
-  system.prior[bias] = variance / (settings.range_bias_prior * settings.range_bias_prior);
-  system.prior[lever] = variance / (settings.lever_arm_prior * settings.lever_arm_prior);
-  const double pitch_prior = settings.pitch_error_prior_deg * kDegree;
-  system.prior[pitch] = variance / (pitch_prior * pitch_prior);
+  const auto sigmas = device_sigmas(settings);
+  for (size_t term = 0; term < kDeviceTerms; ++term) system.prior[2 * count + term] = variance / (sigmas[term] * sigmas[term]);
   return system;
 }
 
-// How far the walls move when device term `term` (0 range bias, 1 lever arm, 2 pitch offset)
-// is `value` instead of zero: the walls' unknowns re-solved with it held there.
+// How far the walls move when device term `term` (in device_sigmas' order) is `value`
+// instead of zero: the walls' unknowns re-solved with it held there.
 Eigen::VectorXd held_at(const System& system, size_t term, double value) {
   const auto g = system.prior.size();
   Eigen::MatrixXd normal = system.prior.asDiagonal();
   for (const auto& block : system.blocks) normal += block.normal;
-  const Eigen::Index walls = g - 3, index = walls + static_cast<Eigen::Index>(term);
+  const Eigen::Index walls = g - static_cast<Eigen::Index>(kDeviceTerms), index = walls + static_cast<Eigen::Index>(term);
   const Eigen::VectorXd shift = normal.topLeftCorner(walls, walls).ldlt().solve(-normal.block(0, index, walls, 1) * value);
   Eigen::VectorXd x = Eigen::VectorXd::Zero(g);
   x.head(walls) = shift;
@@ -111,12 +151,12 @@ struct Outline {
   double area = 0;
 };
 
-Outline outline(const std::vector<WallLine>& walls, const Eigen::VectorXd& x, const std::vector<double>& shift = {}) {
+Outline outline(const std::vector<WallLine>& walls, const Eigen::VectorXd& x) {
   Outline o;
   const size_t count = walls.size();
   for (size_t k = 0; k < count; ++k) {
     o.normals.push_back(Eigen::Rotation2Dd(x[2 * k + 1]) * walls[k].normal);
-    o.offsets.push_back(x[2 * k] + (shift.empty() ? 0.0 : shift[k]));
+    o.offsets.push_back(x[2 * k]);
   }
   for (size_t i = 0; i < count; ++i) {
     const size_t before = (i + count - 1) % count;
@@ -127,6 +167,97 @@ Outline outline(const std::vector<WallLine>& walls, const Eigen::VectorXd& x, co
   return o;
 }
 
+// Variances of the lengths and the area.
+struct Spread {
+  std::vector<double> lengths;
+  double area = 0;
+
+  void add(const Spread& other) {
+    for (size_t i = 0; i < lengths.size(); ++i) lengths[i] += other.lengths[i];
+    area += other.area;
+  }
+};
+
+// The outlines' variance about their mean, times `scale`.
+Spread variance_of(const std::vector<Outline>& outlines, size_t count, double scale) {
+  Spread spread{std::vector<double>(count, 0), 0};
+  if (outlines.size() < 2) return spread;
+  const double n = static_cast<double>(outlines.size());
+  auto variance = [&](auto value) {
+    double mean = 0, squares = 0;
+    for (const auto& o : outlines) mean += value(o) / n;
+    for (const auto& o : outlines) squares += (value(o) - mean) * (value(o) - mean);
+    return scale * squares / n;
+  };
+  for (size_t i = 0; i < count; ++i) spread.lengths[i] = variance([i](const Outline& o) { return o.lengths[i]; });
+  spread.area = variance([](const Outline& o) { return o.area; });
+  return spread;
+}
+
+// Noise and the correlation of a servo step's points: a bootstrap over pitch bins, with a
+// fixed seed (the same cloud gives the same sigmas).
+Spread bootstrap_spread(const System& system, const std::vector<WallLine>& walls, int replicates) {
+  const size_t bins = system.blocks.size();
+  std::mt19937 random(1);
+  std::uniform_int_distribution<size_t> pick(0, bins - 1);
+  std::vector<Outline> outlines;
+  for (int b = 0; b < replicates; ++b) {
+    std::vector<double> weights(bins, 0);
+    for (size_t i = 0; i < bins; ++i) weights[pick(random)] += 1;
+    outlines.push_back(outline(walls, solve(system, weights)));
+  }
+  return variance_of(outlines, walls.size(), 1.0);
+}
+
+// How well the walls agree on the device's errors: a jackknife over the seen walls, each
+// left out of the device terms' estimate in turn (its own line pinned where the full fit put
+// it), then every wall re-solved with the device terms held at that estimate. Where a few
+// walls see the device's signature from similar angles (an L or T seen from one arm), the
+// estimate rests on them and this spread grows; a bootstrap over points never sees it.
+Spread wall_jackknife_spread(const System& system, const std::vector<WallLine>& walls, const Eigen::VectorXd& x) {
+  const size_t count = walls.size(), g = static_cast<size_t>(x.size()), device = 2 * count;
+  Eigen::MatrixXd total = system.prior.asDiagonal();
+  Eigen::VectorXd total_rhs = system.prior.cwiseProduct(system.prior_mean);
+  for (const auto& block : system.blocks) total += block.normal, total_rhs += block.rhs;
+  auto pinned = [](Eigen::MatrixXd normal, Eigen::VectorXd rhs, size_t from, size_t to, const Eigen::VectorXd& at) {
+    for (size_t i = from; i < to; ++i) normal(i, i) += kHeld, rhs[i] += kHeld * at[i];
+    return Eigen::VectorXd(normal.ldlt().solve(rhs));
+  };
+  std::vector<Outline> outlines;
+  for (size_t k = 0; k < count; ++k) {
+    if (walls[k].inferred) continue;
+    const Block& share = system.wall_shares[k];
+    const Eigen::VectorXd others = pinned(total - share.normal, total_rhs - share.rhs, 2 * k, 2 * k + 2, x);
+    outlines.push_back(outline(walls, pinned(total, total_rhs, device, g, others)));
+  }
+  const double n = static_cast<double>(outlines.size());
+  return variance_of(outlines, count, n - 1);  // the jackknife's (n - 1) / n sum of squares
+}
+
+// What the data cannot pin down, each term moved by its sigma and the walls re-solved: the
+// device terms at their priors when they are not estimated (a common range bias moves every
+// wall out at once), and an inferred wall's placement (its seen corner's uncertainty).
+Spread prior_spread(const System& system, const std::vector<WallLine>& walls, const Eigen::VectorXd& x,
+                    const AdjustmentSettings& settings) {
+  const size_t count = walls.size();
+  const Outline best = outline(walls, x);
+  Spread spread{std::vector<double>(count, 0), 0};
+  auto add = [&](const Eigen::VectorXd& shifted_x) {
+    const Outline shifted = outline(walls, shifted_x);
+    for (size_t i = 0; i < count; ++i) spread.lengths[i] += std::pow(shifted.lengths[i] - best.lengths[i], 2);
+    spread.area += std::pow(shifted.area - best.area, 2);
+  };
+  const auto sigmas = device_sigmas(settings);
+  for (size_t term = 0; term < kDeviceTerms && !settings.estimate_device; ++term) add(x + held_at(system, term, sigmas[term]));
+  for (size_t k = 0; k < count; ++k) {
+    if (!walls[k].inferred) continue;
+    Eigen::VectorXd shifted_x = x;
+    shifted_x[2 * k] += walls[k].offset_sigma;
+    add(shifted_x);
+  }
+  return spread;
+}
+
 }  // namespace
 
 AdjustedWalls adjust_walls(const std::vector<WallLine>& walls, const AdjustmentSettings& settings) {
@@ -135,8 +266,9 @@ AdjustedWalls adjust_walls(const std::vector<WallLine>& walls, const AdjustmentS
   size_t seen = 0;
   for (const auto& wall : walls) variance += wall.inferred ? 0 : wall.rms * wall.rms, seen += !wall.inferred;
   variance /= static_cast<double>(std::max<size_t>(1, seen));
+  const size_t count = walls.size();
   const System system = build_system(walls, settings, std::max(variance, 1e-6));
-  const size_t bins = system.blocks.size(), count = walls.size();
+  const size_t bins = system.blocks.size();
   const Eigen::VectorXd x = solve(system, std::vector<double>(bins, 1.0));
   const Outline best = outline(walls, x);
 
@@ -149,51 +281,15 @@ AdjustedWalls adjust_walls(const std::vector<WallLine>& walls, const AdjustmentS
   result.range_bias = x[2 * count];
   result.lever_arm = x[2 * count + 1];
   result.pitch_offset = x[2 * count + 2];
+  result.yaw_error = {x[2 * count + 3], x[2 * count + 4]};
   result.length_sigmas.assign(count, 0);
-
   if (settings.bootstrap <= 0 || bins < 2) return result;
 
-  // Bootstrap over pitch bins, with a fixed seed: the same cloud gives the same sigmas.
-  std::mt19937 random(1);
-  std::uniform_int_distribution<size_t> pick(0, bins - 1);
-  std::vector<double> sum(count, 0), sum_squares(count, 0);
-  double area_sum = 0, area_squares = 0;
-  for (int b = 0; b < settings.bootstrap; ++b) {
-    std::vector<double> weights(bins, 0);
-    for (size_t i = 0; i < bins; ++i) weights[pick(random)] += 1;
-    const Outline replicate = outline(walls, solve(system, weights));
-    for (size_t i = 0; i < count; ++i) {
-      const double d = replicate.lengths[i] - best.lengths[i];
-      sum[i] += d, sum_squares[i] += d * d;
-    }
-    const double d = replicate.area - best.area;
-    area_sum += d, area_squares += d * d;
-  }
-  const double n = settings.bootstrap;
-  // The device's errors the data cannot pin down: each term at its prior sigma, the walls
-  // re-solved (a common range bias moves every wall out at once).
-  std::vector<double> model_lengths(count, 0);
-  double model_area = 0;
-  const double device_sigmas[3] = {settings.range_bias_prior, settings.lever_arm_prior, settings.pitch_error_prior_deg * kDegree};
-  auto add_model_term = [&](const Eigen::VectorXd& shifted_x) {
-    const Outline shifted = outline(walls, shifted_x);
-    for (size_t i = 0; i < count; ++i) model_lengths[i] += std::pow(shifted.lengths[i] - best.lengths[i], 2);
-    model_area += std::pow(shifted.area - best.area, 2);
-  };
-  for (size_t term = 0; term < 3 && !settings.estimate_device; ++term)
-    add_model_term(x + held_at(system, term, device_sigmas[term]));
-  for (size_t k = 0; k < count; ++k) {  // where an inferred wall was placed: its seen corner's uncertainty
-    if (!walls[k].inferred) continue;
-    Eigen::VectorXd shifted_x = x;
-    shifted_x[2 * k] += walls[k].offset_sigma;
-    add_model_term(shifted_x);
-  }
-  for (size_t i = 0; i < count; ++i) {
-    const double mean = sum[i] / n;
-    result.length_sigmas[i] = std::sqrt(std::max(0.0, sum_squares[i] / n - mean * mean) + model_lengths[i]);
-  }
-  const double area_mean = area_sum / n;
-  result.area_sigma = std::sqrt(std::max(0.0, area_squares / n - area_mean * area_mean) + model_area);
+  Spread spread = bootstrap_spread(system, walls, settings.bootstrap);
+  if (settings.estimate_device && seen >= 3) spread.add(wall_jackknife_spread(system, walls, x));
+  spread.add(prior_spread(system, walls, x, settings));
+  for (size_t i = 0; i < count; ++i) result.length_sigmas[i] = std::sqrt(spread.lengths[i]);
+  result.area_sigma = std::sqrt(spread.area);
   return result;
 }
 

@@ -9,6 +9,10 @@
 
 namespace scanbus::room_measurement {
 
+double WallLine::along_on_ray(const Eigen::Vector2d& point) const {
+  return direction().dot(point * (offset / std::max(1e-9, normal.dot(point))));
+}
+
 namespace {
 
 double percentile(std::vector<double> values, double fraction) {
@@ -83,13 +87,8 @@ void drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, 
   }
 }
 
-// Where the ray from the scanner through `point` meets a wall's line, as an along-position on it.
-double along_on_ray(const WallLine& wall, const Eigen::Vector2d& point) {
-  return wall.direction().dot(point * (wall.offset / std::max(1e-9, wall.normal.dot(point))));
-}
-
-// The same for the ray at `angle`.
-double along_at(const WallLine& wall, double angle) { return along_on_ray(wall, {std::cos(angle), std::sin(angle)}); }
+// Where the ray at `angle` meets a wall's line, as an along-position on it.
+double along_at(const WallLine& wall, double angle) { return wall.along_on_ray({std::cos(angle), std::sin(angle)}); }
 
 // Whether a seen wall has points at wall heights well past a corner (`direction` +1: past its
 // end side, -1: its start side): it goes on behind its neighbour, so the corner is not one
@@ -170,7 +169,7 @@ WallEnd wall_end(const WallLine& wall, double near, bool at_end, const std::vect
     const Eigen::Vector2d xy = p.head<2>().cast<double>();
     const double facing = wall.normal.dot(xy);
     if (facing <= 1e-6 || std::abs(facing - wall.offset) > band) continue;
-    const double s = sign * (along_on_ray(wall, xy) - start);
+    const double s = sign * (wall.along_on_ray(xy) - start);
     if (s >= 0) along.push_back(s);
   }
   std::sort(along.begin(), along.end());
@@ -435,6 +434,8 @@ std::vector<Opening> find_openings(const WallLine& wall, const Eigen::Vector2d& 
   const Eigen::Vector2d along = (b - a) / length;
   const auto slots = static_cast<size_t>(std::ceil(length / kSlot));
   std::vector<int> on(slots, 0), past(slots, 0);
+  std::vector<std::vector<double>> depths(slots);  // past the line, at the wall's middle heights
+  const double middle_low = wall.z_low + 0.3, middle_high = wall.z_high - 0.3;
   for (const auto& p : points) {
     const Eigen::Vector2d xy = p.head<2>().cast<double>();
     const double distance = wall.normal.dot(xy) - wall.offset;  // > 0 beyond the wall
@@ -444,7 +445,10 @@ std::vector<Opening> find_openings(const WallLine& wall, const Eigen::Vector2d& 
     if (!(s >= 0 && s < length)) continue;
     const auto slot = std::min(slots - 1, static_cast<size_t>(s / kSlot));
     if (distance <= band) ++on[slot];
-    if (distance > beyond) ++past[slot];
+    if (distance <= beyond) continue;
+    ++past[slot];
+    const double z = p.z() * wall.offset / wall.normal.dot(xy);  // where its ray crosses the wall
+    if (z > middle_low && z < middle_high) depths[slot].push_back(distance);
   }
   std::vector<Opening> openings;
   for (size_t i = 0; i < slots;) {
@@ -455,7 +459,11 @@ std::vector<Opening> find_openings(const WallLine& wall, const Eigen::Vector2d& 
     size_t j = i;
     while (j < slots && past[j] > on[j]) ++j;
     const double width = (j - i) * kSlot;
-    if (width >= min_width) openings.push_back({i * kSlot, std::min(width, length - i * kSlot)});
+    if (width >= min_width) {
+      std::vector<double> seen;
+      for (size_t k = i; k < j; ++k) seen.insert(seen.end(), depths[k].begin(), depths[k].end());
+      openings.push_back({i * kSlot, std::min(width, length - i * kSlot), percentile(std::move(seen), 0.5)});
+    }
     i = j;
   }
   return openings;

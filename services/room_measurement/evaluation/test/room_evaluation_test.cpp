@@ -55,3 +55,24 @@ TEST(RoomEvaluation, SummaryCountsVerdictsAndErrors) {
   EXPECT_DOUBLE_EQ(summary.within_1_sigma, 0.5);
   EXPECT_DOUBLE_EQ(summary.within_2_sigma, 0.5);
 }
+
+// An alcove seen from the side: its back wall sparse, its sides not found as walls. Its gap
+// was an opening and the room ok with the recess cut off ("4 walls" for 8); now refused,
+// saying where. A door onto a corridor 1-3 m behind stays an opening.
+TEST(RoomEvaluation, ARecessIsRefusedADoorIsAnOpening) {
+  const room_measurement::RoomSettings settings;
+  const auto alcove = room_evaluation::evaluate_room(sim::generate_room(sim::RoomCategory::Alcove, 5), settings, false);
+  EXPECT_EQ(alcove.status, room_measurement::RoomStatus::WallsDoNotClose) << alcove.message;
+  EXPECT_NE(alcove.message.find("has a recess"), std::string::npos) << alcove.message;
+  EXPECT_EQ(alcove.verdict, room_evaluation::Verdict::Refused);
+
+  size_t doors_measured = 0, doors_openings = 0;
+  for (unsigned seed = 1; seed <= 5; ++seed) {
+    const auto doors = room_evaluation::evaluate_room(sim::generate_room(sim::RoomCategory::Doors, seed), settings, false);
+    if (doors.verdict != room_evaluation::Verdict::Measured) continue;
+    ++doors_measured;
+    for (const auto& wall : doors.measurement.walls) doors_openings += wall.openings.size();
+  }
+  EXPECT_GE(doors_measured, 4u);
+  EXPECT_GE(doors_openings, doors_measured);
+}

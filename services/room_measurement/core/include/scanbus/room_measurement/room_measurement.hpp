@@ -34,6 +34,8 @@ struct RoomSettings {
   AdjustmentSettings adjustment;
   double opening_min_width = 0.3;  // m: narrower gaps with returns beyond are not doors or windows
   double opening_beyond = 0.2;     // m past the wall's line a return must lie to be seen through it
+  double recess_depth = 0.9;       // m: a surface seen through an opening nearer than this behind the
+                                   // wall is a recess, not a corridor (a hallway is at least 0.9 m wide)
   double beam_divergence = 0.008;  // rad: LIDAR-Lite v3's beam (its spec, 8 mrad); half its footprint
                                    // blurs where a wall's points end at a corner the scanner sees
   size_t max_horizontal_samples = 50000;  // floor and ceiling are found on a subsample

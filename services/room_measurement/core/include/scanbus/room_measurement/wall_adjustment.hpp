@@ -2,16 +2,19 @@
 //
 // Walls are planes, so errors of the device bend every wall the same way: a range bias moves
 // each point along its ray, a lever arm (the LiDAR's optical centre off the pitch axis) and a
-// pitch error move it across. All are linear in small corrections, so one least-squares
-// adjustment estimates each wall's line (offset and a small turn), the range bias, the lever
-// arm and the servo's pitch offset from the walls' inliers (a pitch error per servo step made
-// the walls of small rooms ill-determined: the steps' own errors are left to the bootstrap). A point's ray
-// follows from its position: the scanner is at the origin and its pitch counts from the
-// vertical (the thesis's eq. 3.10-3.12).
+// pitch error move it across, and a once-per-turn yaw error of the pole (a gear's runout)
+// turns it about the pole by an angle that varies with yaw. All are linear in small
+// corrections, so one least-squares adjustment estimates each wall's line (offset and a small
+// turn) and the device terms from the walls' points (a pitch error per servo step made the
+// walls of small rooms ill-determined: the steps' own errors are left to the bootstrap). A
+// point's ray follows from its position: the scanner is at the origin and its pitch counts
+// from the vertical (the thesis's eq. 3.10-3.12).
 //
-// Uncertainty: a bootstrap over pitch bins (whole revolutions, whose errors are shared) gives
-// the spread of lengths and area that noise and neighbouring points' correlation leave; the
-// device terms (estimated or held at zero) add their own sigma, each propagated to the walls.
+// Uncertainty, three parts added: a bootstrap over pitch bins (whole revolutions, whose
+// errors are shared) for noise and neighbouring points' correlation; a jackknife over the
+// walls for how far the device terms rest on a few of them; each term the data cannot pin
+// down (an inferred wall's placement; the device terms when they are not estimated) moved by
+// its sigma and propagated to the walls.
 #pragma once
 
 #include <Eigen/Core>
@@ -24,14 +27,18 @@ namespace scanbus::room_measurement {
 
 struct AdjustmentSettings {
   bool enabled = true;
-  bool estimate_device = false;        // also estimate range bias, lever arm and pitch offset: off, as on
-                                       // the sweep it did not lower the wall errors (docs/room_evaluation.md)
+  bool estimate_device = true;         // estimate the device terms (off: hold them at zero, their priors
+                                       // added to the sigmas; docs/room_evaluation.md compares the two)
+  double band = 0.05;                  // m: a wall's points used, either side of its refined line; wider
+                                       // takes in skirting, frames and furniture near the wall
   double pitch_bin_deg = 1.0;          // the bootstrap's unit: rays within a bin share a servo step's error
   // The device's errors, one sigma (priors when estimated; added to the sigmas when not):
   double range_bias_prior = 0.01;      // m: a LIDAR-Lite v3 offset-calibrated at one distance, to its 1 cm resolution
   double lever_arm_prior = 0.02;       // m: the optical centre's height over the pitch axis, uncalibrated
                                        // (the LiDAR's housing is 4 cm high)
   double pitch_error_prior_deg = 0.5;  // a standard servo's offset: half its 1-degree resolution
+  double yaw_error_prior_deg = 0.3;    // the pole's once-per-turn yaw error, each of its sine and cosine
+                                       // parts: a printed gear's runout (0.1 mm on a 20 mm pitch radius)
   int bootstrap = 100;                 // replicates; 0 skips the uncertainty
 };
 
@@ -43,6 +50,7 @@ struct AdjustedWalls {
   double area = 0, area_sigma = 0;
   double range_bias = 0, lever_arm = 0;  // m: the corrections estimated (added to the range; along "up")
   double pitch_offset = 0;               // rad, added to the reported pitch
+  Eigen::Vector2d yaw_error{0, 0};       // rad: the yaw error's sine and cosine parts (of the reported yaw)
 };
 
 // `walls` in room order with their inliers; an inferred wall (no inliers) is held where it was

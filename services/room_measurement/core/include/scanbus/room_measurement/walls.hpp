@@ -37,6 +37,9 @@ struct WallLine {
   bool inferred = false;      // not seen: placed between two parallel walls the scanner saw (infer_hidden_wall)
 
   Eigen::Vector2d direction() const { return {-normal.y(), normal.x()}; }
+  // Where the ray from the scanner (the origin) through `point` meets the line, as an
+  // along-position: range noise moves a point along its ray, so this is where it belongs.
+  double along_on_ray(const Eigen::Vector2d& point) const;
 };
 
 // Least-squares line through the inliers' x-y (total least squares: the smallest
@@ -104,6 +107,8 @@ struct ViewLimits {
 // An opening in a wall: returns seen beyond its line through a gap in it (a door, a window).
 struct Opening {
   double start = 0, width = 0;  // m along the wall from its first corner
+  double depth = 0;             // m: median distance past the wall's line of the returns seen through it
+                                // at the wall's middle heights (0: none there, e.g. a window onto sky)
 };
 
 // The room's walls in order: turning once around the scanner (the origin), the room's wall in
@@ -116,7 +121,8 @@ std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimi
                                     const PolygonSettings& settings, std::string& why);
 
 // Openings along the wall from corner a to corner b: runs of at least `min_width` where more
-// points lie beyond the wall's line (by `beyond`) than on it.
+// points lie beyond the wall's line (by `beyond`) than on it, with how deep what is seen
+// through them lies.
 std::vector<Opening> find_openings(const WallLine& wall, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                                    const std::vector<Eigen::Vector3f>& points, double band, double beyond, double min_width);
 
