@@ -120,12 +120,18 @@ System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings
   return system;
 }
 
+// The normal equations of every bin with the priors: the full fit's.
+Block all_of(const System& system) {
+  Block all{system.prior.asDiagonal(), system.prior.cwiseProduct(system.prior_mean)};
+  for (const auto& block : system.blocks) all.normal += block.normal, all.rhs += block.rhs;
+  return all;
+}
+
 // How far the walls move when device term `term` (in device_sigmas' order) is `value`
 // instead of zero: the walls' unknowns re-solved with it held there.
 Eigen::VectorXd held_at(const System& system, size_t term, double value) {
   const auto g = system.prior.size();
-  Eigen::MatrixXd normal = system.prior.asDiagonal();
-  for (const auto& block : system.blocks) normal += block.normal;
+  const Eigen::MatrixXd normal = all_of(system).normal;
   const Eigen::Index walls = g - static_cast<Eigen::Index>(kDeviceTerms), index = walls + static_cast<Eigen::Index>(term);
   const Eigen::VectorXd shift = normal.topLeftCorner(walls, walls).ldlt().solve(-normal.block(0, index, walls, 1) * value);
   Eigen::VectorXd x = Eigen::VectorXd::Zero(g);
@@ -216,9 +222,7 @@ Spread bootstrap_spread(const System& system, const std::vector<WallLine>& walls
 // estimate rests on them and this spread grows; a bootstrap over points never sees it.
 Spread wall_jackknife_spread(const System& system, const std::vector<WallLine>& walls, const Eigen::VectorXd& x) {
   const size_t count = walls.size(), g = static_cast<size_t>(x.size()), device = 2 * count;
-  Eigen::MatrixXd total = system.prior.asDiagonal();
-  Eigen::VectorXd total_rhs = system.prior.cwiseProduct(system.prior_mean);
-  for (const auto& block : system.blocks) total += block.normal, total_rhs += block.rhs;
+  const Block total = all_of(system);
   auto pinned = [](Eigen::MatrixXd normal, Eigen::VectorXd rhs, size_t from, size_t to, const Eigen::VectorXd& at) {
     for (size_t i = from; i < to; ++i) normal(i, i) += kHeld, rhs[i] += kHeld * at[i];
     return Eigen::VectorXd(normal.ldlt().solve(rhs));
@@ -227,8 +231,8 @@ Spread wall_jackknife_spread(const System& system, const std::vector<WallLine>& 
   for (size_t k = 0; k < count; ++k) {
     if (walls[k].inferred) continue;
     const Block& share = system.wall_shares[k];
-    const Eigen::VectorXd others = pinned(total - share.normal, total_rhs - share.rhs, 2 * k, 2 * k + 2, x);
-    outlines.push_back(outline(walls, pinned(total, total_rhs, device, g, others)));
+    const Eigen::VectorXd others = pinned(total.normal - share.normal, total.rhs - share.rhs, 2 * k, 2 * k + 2, x);
+    outlines.push_back(outline(walls, pinned(total.normal, total.rhs, device, g, others)));
   }
   const double n = static_cast<double>(outlines.size());
   return variance_of(outlines, count, n - 1);  // the jackknife's (n - 1) / n sum of squares
