@@ -43,8 +43,10 @@ std::vector<Eigen::Vector3f> points_on_wall(const WallLine& wall, const std::vec
     const Eigen::Vector2d xy = p.head<2>().cast<double>();
     const double distance = wall.normal.dot(xy);
     if (std::abs(distance - wall.offset) >= band) continue;
-    const double along = wall.along_on_ray(xy), z = p.z() * wall.offset / distance;
-    if (along > wall.start + band && along < wall.end - band && z >= z_low && z <= z_high) near.push_back(p);
+    const Eigen::Vector3d crossing = wall.on_ray(p.cast<double>());
+    const double along = wall.direction().dot(crossing.head<2>());
+    if (along > wall.start + band && along < wall.end - band && crossing.z() >= z_low && crossing.z() <= z_high)
+      near.push_back(p);
   }
   return near;
 }

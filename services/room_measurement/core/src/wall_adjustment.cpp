@@ -51,7 +51,7 @@ void for_each_row(const std::vector<WallLine>& walls, double pitch_bin_deg, Use 
       if (facing * sin_pitch < 0.05) continue;  // grazing: the ray barely meets the wall
       // The regressors at the ray's meeting with the current line, not at the noisy point:
       // range noise in both sides of the equations would bias the turn and the pitch terms.
-      const Eigen::Vector3d on_line = p * (walls[k].offset / (facing * sin_pitch * range));
+      const Eigen::Vector3d on_line = walls[k].on_ray(p);
       const double pitch_deg = std::atan2(horizontal, p.z()) / kDegree;
       size_t& bin = bin_index[static_cast<size_t>(std::lround(pitch_deg / pitch_bin_deg))];
       if (bin == kNoBin) bin = bins++;

@@ -9,6 +9,10 @@
 
 namespace scanbus::room_measurement {
 
+Eigen::Vector3d WallLine::on_ray(const Eigen::Vector3d& point) const {
+  return point * (offset / std::max(1e-9, normal.dot(point.head<2>())));
+}
+
 double WallLine::along_on_ray(const Eigen::Vector2d& point) const {
   return direction().dot(point * (offset / std::max(1e-9, normal.dot(point))));
 }
@@ -440,15 +444,14 @@ std::vector<Opening> find_openings(const WallLine& wall, const Eigen::Vector2d& 
     const Eigen::Vector2d xy = p.head<2>().cast<double>();
     const double distance = wall.normal.dot(xy) - wall.offset;  // > 0 beyond the wall
     if (distance < -band || wall.normal.dot(xy) < 1e-6) continue;
-    const Eigen::Vector2d crossing = xy * (wall.offset / wall.normal.dot(xy));  // where its ray meets the line
-    const double s = along.dot(crossing - a);
+    const Eigen::Vector3d crossing = wall.on_ray(p.cast<double>());
+    const double s = along.dot(crossing.head<2>() - a);
     if (!(s >= 0 && s < length)) continue;
     const auto slot = std::min(slots - 1, static_cast<size_t>(s / kSlot));
     if (distance <= band) ++on[slot];
     if (distance <= beyond) continue;
     ++past[slot];
-    const double z = p.z() * wall.offset / wall.normal.dot(xy);  // where its ray crosses the wall
-    if (z > middle_low && z < middle_high) depths[slot].push_back(distance);
+    if (crossing.z() > middle_low && crossing.z() < middle_high) depths[slot].push_back(distance);
   }
   std::vector<Opening> openings;
   for (size_t i = 0; i < slots;) {

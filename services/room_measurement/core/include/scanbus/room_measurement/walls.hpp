@@ -37,8 +37,9 @@ struct WallLine {
   bool inferred = false;      // not seen: placed between two parallel walls the scanner saw (infer_hidden_wall)
 
   Eigen::Vector2d direction() const { return {-normal.y(), normal.x()}; }
-  // Where the ray from the scanner (the origin) through `point` meets the line, as an
-  // along-position: range noise moves a point along its ray, so this is where it belongs.
+  // Where the ray from the scanner (the origin) through `point` meets the wall's plane: range
+  // noise moves a point along its ray, so this is where it belongs. As an along-position:
+  Eigen::Vector3d on_ray(const Eigen::Vector3d& point) const;
   double along_on_ray(const Eigen::Vector2d& point) const;
 };
 
