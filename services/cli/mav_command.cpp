@@ -14,6 +14,7 @@
 #include "commands.hpp"
 #include "scanbus/ground_evaluation/flight_evaluation.hpp"
 #include "mav_messages.hpp"
+#include "scanbus/config.hpp"
 #include "scanbus/mav_sim/flight.hpp"
 
 namespace scanbus::cli {
@@ -34,6 +35,7 @@ struct FlightOptions {
   std::string gps = "rtk";
   double laser_rate = 30;   // Hz, the paper's laser
   int laser_rays = 361;     // at 0.25 degrees: the paper's 90 degrees; 1,081 spans 270 (a Hokuyo UTM-30LX)
+  std::string terrain;      // a YAML file with a `terrain` map; empty: flat, as in the paper
 };
 
 mav_sim::FlightSettings flight_settings(const FlightOptions& options) {
@@ -46,6 +48,12 @@ mav_sim::FlightSettings flight_settings(const FlightOptions& options) {
   settings.laser.rate = options.laser_rate;
   settings.laser.field_of_view = (options.laser_rays - 1) * settings.laser.step;
   if (options.gps == "standalone") settings.noise = mav_sim::standalone_gps(settings.noise);
+  if (!options.terrain.empty()) {
+    const Config file = Config::load(options.terrain);
+    if (!file.has("terrain")) file.missing("terrain");
+    settings.terrain = mav_sim::terrain_from_config(file.section("terrain"));
+    file.check_all_read();
+  }
   return settings;
 }
 
@@ -61,6 +69,9 @@ void add_flight_options(CLI::App& command, FlightOptions& options) {
   command.add_option("--laser-rate", options.laser_rate, "Laser scans per second")->check(CLI::Range(1.0, 200.0));
   command.add_option("--laser-rays", options.laser_rays, "Rays per scan, 0.25 degrees apart, centred on straight down")
       ->check(CLI::Range(2, 1441));
+  command.add_option("--terrain", options.terrain, "YAML file whose `terrain` map shapes the ground under the scenario "
+                     "(slope, mounds, steps, roughness; config/mav/terrain_slope_mound.yaml); default flat")
+      ->check(CLI::ExistingFile);
 }
 
 struct SimOptions {

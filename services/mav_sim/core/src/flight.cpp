@@ -6,6 +6,7 @@
 #include "scanbus/transforms/transform_buffer.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <stdexcept>
 
@@ -89,14 +90,33 @@ BodyState scenario_state(const FlightSettings& s, double t) {
 
 GroundWorld scenario_world(const FlightSettings& s) {
   if (s.scenario == 3)  // two 1 m blocks meeting in a concave corner at (6, 2)
-    return GroundWorld({{{4, 3}, 0, {8, 2, 1.0}}, {{7, -1}, 0, {2, 6, 1.0}}});
+    return GroundWorld({{{4, 3}, 0, {8, 2, 1.0}}, {{7, -1}, 0, {2, 6, 1.0}}}, s.terrain);
   if (s.scenario == 4) {  // two identical boxes side by side across the flight path
     const double gap = 0.5;
     const double offset = (s.box_size.y() + gap) / 2;
-    return GroundWorld({{{4, -offset}, 0, s.box_size}, {{4, offset}, 0, s.box_size}});
+    return GroundWorld({{{4, -offset}, 0, s.box_size}, {{4, offset}, 0, s.box_size}}, s.terrain);
   }
-  return GroundWorld();
+  return GroundWorld({}, s.terrain);
 }
+
+namespace {
+
+// The MAV holds its altitude: the ground under it must stay clear of it.
+void check_clearance(const FlightSettings& s, const GroundWorld& world) {
+  constexpr double kClearance = 0.5, kEvery = 0.1;  // m, s
+  for (double t = 0; t < s.duration; t += kEvery) {
+    const Eigen::Vector3d at = scenario_position(s, t);
+    const double ground = world.height_at(at.head<2>());
+    if (ground > at.z() - kClearance) {
+      char what[160];
+      std::snprintf(what, sizeof what, "the terrain rises to %.2f m under the MAV at (%.2f, %.2f) at t = %.1f s, "
+                    "within %.1f m of its altitude %.2f m", ground, at.x(), at.y(), t, kClearance, at.z());
+      throw std::invalid_argument(what);
+    }
+  }
+}
+
+}  // namespace
 
 Eigen::Isometry3d laser_in_body(const LaserSettings& laser) { return transforms::from_xyz_rpy(laser.position, laser.rpy); }
 
@@ -105,6 +125,7 @@ sensor_replay::MavLog simulate_flight(const FlightSettings& s) {
   std::mt19937 random(s.seed);
   std::normal_distribution<double> gauss(0, 1);
   const GroundWorld world = scenario_world(s);
+  check_clearance(s, world);
   const Eigen::Isometry3d mount = laser_in_body(s.laser);
   const GeographicLib::LocalCartesian local(s.origin.x(), s.origin.y(), s.origin.z());
   sensor_replay::MavLog log;

@@ -12,7 +12,7 @@ constexpr double kNone = std::numeric_limits<double>::infinity();
 // Slab test in the box's own frame (origin at its footprint's centre on the ground).
 double cast_box(const Box& box, const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) {
   const Eigen::Matrix3d to_box = Eigen::AngleAxisd(-box.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  const Eigen::Vector3d o = to_box * (origin - Eigen::Vector3d(box.centre.x(), box.centre.y(), 0));
+  const Eigen::Vector3d o = to_box * (origin - Eigen::Vector3d(box.centre.x(), box.centre.y(), box.base));
   const Eigen::Vector3d d = to_box * direction;
   const Eigen::Vector3d low(-box.size.x() / 2, -box.size.y() / 2, 0), high(box.size.x() / 2, box.size.y() / 2, box.size.z());
   double near = 0, far = kNone;
@@ -32,16 +32,21 @@ double cast_box(const Box& box, const Eigen::Vector3d& origin, const Eigen::Vect
 
 }  // namespace
 
+GroundWorld::GroundWorld(std::vector<Box> boxes, Terrain terrain) : boxes_(std::move(boxes)), terrain_(std::move(terrain)) {
+  for (Box& box : boxes_) box.base = terrain_.height_at(box.centre);
+}
+
 double GroundWorld::cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const {
-  double nearest = direction.z() < -1e-12 ? -origin.z() / direction.z() : kNone;
-  if (nearest < 0) nearest = kNone;
+  double nearest = terrain_.cast(origin, direction);
   for (const Box& box : boxes_) nearest = std::min(nearest, cast_box(box, origin, direction));
   return nearest;
 }
 
 double GroundWorld::height_at(const Eigen::Vector2d& xy) const {
-  const double range = cast(Eigen::Vector3d(xy.x(), xy.y(), 1000), -Eigen::Vector3d::UnitZ());
-  return std::isinf(range) ? 0 : 1000 - range;
+  double top = terrain_.height_at(xy);
+  const Eigen::Vector3d above(xy.x(), xy.y(), 1000), down = -Eigen::Vector3d::UnitZ();
+  for (const Box& box : boxes_) top = std::max(top, 1000 - cast_box(box, above, down));
+  return top;
 }
 
 }  // namespace scanbus::mav_sim

@@ -2,8 +2,10 @@
 
 #include <cmath>
 #include <fstream>
+#include <random>
 
 #include "scanbus/atmosphere.hpp"
+#include "scanbus/config.hpp"
 #include "scanbus/mav_sim/flight.hpp"
 
 using namespace scanbus;
@@ -19,6 +21,124 @@ TEST(GroundWorld, RaysHitTheGroundAndTheBoxes) {
   EXPECT_TRUE(std::isinf(world.cast({0, 0, 3}, Eigen::Vector3d::UnitZ())));
   EXPECT_NEAR(world.height_at({4.1, 0.1}), 0.3, 1e-9);
   EXPECT_NEAR(world.height_at({5, 0}), 0.0, 1e-9);
+}
+
+TEST(Terrain, FeaturesAddUp) {
+  Terrain terrain;
+  terrain.slope = {0.05, -0.02};
+  terrain.mounds = {{{10, 0}, 2, 0.4}, {{-10, 0}, 1, -0.3}};  // a mound and a ditch
+  terrain.steps = {{{0, 5}, M_PI / 2, 0.2, 0.02}};             // the ground 0.2 m higher north of y = 5
+  const TerrainSurface surface(terrain);
+  EXPECT_NEAR(surface.height_at({0, 0}), 0, 1e-12);
+  EXPECT_NEAR(surface.height_at({10, 0}), 0.5 + 0.4, 1e-12);
+  EXPECT_NEAR(surface.height_at({11, 0}), 0.55 + 0.2, 1e-12);  // half way out: half the height
+  EXPECT_NEAR(surface.height_at({-10, 0}), -0.5 - 0.3, 1e-12);
+  EXPECT_NEAR(surface.height_at({0, 4.9}), -0.098, 1e-12);
+  EXPECT_NEAR(surface.height_at({0, 5.1}), -0.102 + 0.2, 1e-12);
+  EXPECT_TRUE(Terrain{}.flat());
+  EXPECT_FALSE(terrain.flat());
+}
+
+TEST(Terrain, RoughGroundHasTheRmsAskedFor) {
+  Terrain terrain;
+  terrain.roughness = 0.03;
+  const TerrainSurface surface(terrain);
+  double sum = 0, squares = 0;
+  int n = 0;
+  for (double x = -10; x < 10; x += 0.03)
+    for (double y = -10; y < 10; y += 0.03, ++n) {
+      const double z = surface.height_at({x, y});
+      sum += z, squares += z * z;
+    }
+  EXPECT_NEAR(std::sqrt(squares / n), 0.03, 0.003);
+  EXPECT_NEAR(sum / n, 0, 0.003);
+}
+
+// Rays from the air meet the surface where it is (within 0.1 mm) and never pass through it first.
+TEST(Terrain, RaysStopAtTheFirstSurface) {
+  Terrain terrain;
+  terrain.slope = {0.05, 0.03};
+  terrain.mounds = {{{3, 1}, 1.5, 0.5}};
+  terrain.steps = {{{5, 0}, 0.3, -0.3, 0.05}};
+  terrain.roughness = 0.03;
+  const TerrainSurface surface(terrain);
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> place(-2, 8), tilt(-1.2, 1.2), turn(-M_PI, M_PI);
+  for (int i = 0; i < 200; ++i) {
+    const Eigen::Vector3d origin(place(random), place(random) / 2, 3.5);
+    const double a = tilt(random), b = turn(random);
+    const Eigen::Vector3d direction(std::sin(a) * std::cos(b), std::sin(a) * std::sin(b), -std::cos(a));
+    const double range = surface.cast(origin, direction);
+    ASSERT_TRUE(std::isfinite(range));
+    const Eigen::Vector3d hit = origin + range * direction;
+    EXPECT_NEAR(hit.z(), surface.height_at(hit.head<2>()), 1e-4);
+    for (double t = 0; t < range - 0.005; t += 0.005) {
+      const Eigen::Vector3d p = origin + t * direction;
+      ASSERT_GT(p.z(), surface.height_at(p.head<2>())) << "ray " << i << " passed through the ground at " << t << " m";
+    }
+  }
+  EXPECT_TRUE(std::isinf(surface.cast({0, 0, 3}, Eigen::Vector3d::UnitZ())));
+}
+
+TEST(GroundWorld, BoxesStandOnTheTerrain) {
+  Terrain terrain;
+  terrain.slope = {0.1, 0};
+  const GroundWorld world({{{4, 0}, 0, {0.6, 0.4, 0.3}}}, terrain);
+  EXPECT_NEAR(world.height_at({4, 0}), 0.4 + 0.3, 1e-9);       // the box's top over its centre's ground
+  EXPECT_NEAR(world.height_at({6, 0}), 0.6, 1e-9);             // the slope beside it
+  EXPECT_NEAR(world.cast({4, 0, 3}, -Eigen::Vector3d::UnitZ()), 3 - 0.7, 1e-9);
+}
+
+TEST(Flight, TheLaserSeesTheTerrainAndTheMavKeepsItsAltitude) {
+  FlightSettings settings;
+  settings.duration = 12;
+  settings.terrain.slope = {0.05, 0};  // rising 0.5 m over the 10 m of scenario I
+  settings.laser.noise = 0;
+  const auto log = simulate_flight(settings);
+  for (size_t i = 0; i < log.lasers.size(); i += 30) {
+    const double t = log.lasers[i].stamp - settings.start_stamp;
+    const BodyState truth = scenario_state(settings, t);
+    // The middle ray looks about straight down (the body tilts by a degree or two).
+    EXPECT_NEAR(log.lasers[i].ranges[180], truth.position.z() - 0.1 - 0.05 * truth.position.x(), 0.03) << "t " << t;
+  }
+  settings.terrain.mounds = {{{5, 0}, 2, 3.0}};  // a hill the MAV would fly into
+  try {
+    simulate_flight(settings);
+    FAIL() << "a terrain reaching the MAV was accepted";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("terrain rises"), std::string::npos) << error.what();
+  }
+}
+
+TEST(Terrain, FromYaml) {
+  const Config config = Config::parse(R"(terrain:
+  slope: [0.05, 0]
+  mounds: [{centre: [5, 0], radius: 3, height: 0.4}, {centre: [-4, 2], radius: 1, height: -0.3}]
+  steps: [{at: [7, 0], direction: 90, height: 0.2, width: 0.05}]
+  roughness: 0.02
+  roughness_wavelength: 0.8
+  seed: 7
+)", "terrain.yaml");
+  const Terrain terrain = terrain_from_config(config.section("terrain"));
+  config.check_all_read();
+  EXPECT_EQ(terrain.mounds.size(), 2u);
+  EXPECT_DOUBLE_EQ(terrain.mounds[1].height, -0.3);
+  EXPECT_NEAR(terrain.steps[0].direction, M_PI / 2, 1e-12);
+  EXPECT_DOUBLE_EQ(terrain.roughness_wavelength, 0.8);
+  EXPECT_EQ(terrain.roughness_seed, 7u);
+  auto refused = [](const std::string& text) {
+    try {
+      const Config bad = Config::parse(text, "bad.yaml");
+      terrain_from_config(bad.section("terrain"));
+      bad.check_all_read();
+    } catch (const ConfigError& error) {
+      return std::string(error.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(refused("terrain: {slope: [2, 0]}").find("slope"), std::string::npos);
+  EXPECT_NE(refused("terrain: {mounds: [{centre: [0, 0], radius: 0, height: 1}]}").find("radius"), std::string::npos);
+  EXPECT_NE(refused("terrain: {roughnes: 0.02}").find("roughnes"), std::string::npos);
 }
 
 TEST(Flight, ScenarioOneGoesTenMetresAndBack) {

@@ -54,8 +54,10 @@ SensorNoise standalone_gps(SensorNoise noise);
 struct FlightSettings {
   int scenario = 1;                      // 1..4 as in the paper
   double duration = 180;                 // s (scenario I: about 3 minutes)
-  double height = 3.0;                   // m above the ground, on average
+  double height = 3.0;                   // m above the ground at the map origin, on average (the MAV holds
+                                         // its altitude: over a terrain its clearance changes)
   Eigen::Vector3d box_size{0.6, 0.4, 0.3};  // scenario IV: length (along the flight), width, height
+  Terrain terrain;                       // the ground under every scenario (flat by default, as in the paper)
   double start_stamp = 1700000000.0;     // s, the first sample's stamp
   Eigen::Vector3d origin{52.5163, 13.3777, 34.0};  // lat, lon (deg), alt (m) of the map origin
   unsigned seed = 1;
@@ -75,7 +77,8 @@ GroundWorld scenario_world(const FlightSettings& settings);
 Eigen::Isometry3d laser_in_body(const LaserSettings& laser);
 
 // Flies the scenario and returns every sensor sample and the truth (at 100 Hz). Throws
-// std::invalid_argument naming a setting out of range.
+// std::invalid_argument naming a setting out of range (also a terrain that comes within
+// 0.5 m of the MAV).
 sensor_replay::MavLog simulate_flight(const FlightSettings& settings);
 
 }  // namespace scanbus::mav_sim

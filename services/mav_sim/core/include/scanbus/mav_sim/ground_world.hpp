@@ -1,10 +1,12 @@
-// The ground under the MAV: a plane at z = 0 with boxes standing on it (map frame, z up),
-// and the laser's rays cast into it.
+// The ground under the MAV: a terrain (flat at z = 0 unless given) with boxes standing on
+// it (map frame, z up), and the laser's rays cast into it.
 #pragma once
 
 #include <Eigen/Geometry>
 
 #include <vector>
+
+#include "scanbus/mav_sim/terrain.hpp"
 
 namespace scanbus::mav_sim {
 
@@ -12,20 +14,24 @@ struct Box {
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();
   double yaw = 0;                                 // rad, about z
   Eigen::Vector3d size = Eigen::Vector3d::Ones();  // length (along its x), width, height; m
+  double base = 0;                                // m: its footprint's height (GroundWorld sets it)
 };
 
 class GroundWorld {
  public:
-  explicit GroundWorld(std::vector<Box> boxes = {}) : boxes_(std::move(boxes)) {}
+  // Each box stands on the terrain at its centre (on a slope its uphill edge is buried).
+  explicit GroundWorld(std::vector<Box> boxes = {}, Terrain terrain = {});
 
   // Distance along the unit `direction` from `origin` to the first surface, or +inf.
   double cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
   // Height of the surface at (x, y).
   double height_at(const Eigen::Vector2d& xy) const;
   const std::vector<Box>& boxes() const { return boxes_; }
+  const TerrainSurface& terrain() const { return terrain_; }
 
  private:
   std::vector<Box> boxes_;
+  TerrainSurface terrain_;
 };
 
 }  // namespace scanbus::mav_sim

@@ -1,0 +1,67 @@
+// Ground that is not flat: a height field of simple features added together (a slope,
+// mounds and ditches, steps, rough ground), for the MAV simulator's world. Map frame, z up,
+// metres. Heights are the world's truth; nothing here knows what the fusion assumes.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace scanbus {
+class Config;
+}
+
+namespace scanbus::mav_sim {
+
+// A raised-cosine bump: `height` at the centre, 0 from `radius` out; a negative height is a ditch.
+struct Mound {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  double radius = 1, height = 0.3;  // m
+};
+
+// The ground rises by `height` across the line through `at` whose normal points at
+// `direction` (rad from x), over a ramp `width` wide (a kerb, a terrace edge).
+struct Step {
+  Eigen::Vector2d at = Eigen::Vector2d::Zero();
+  double direction = 0;  // rad
+  double height = 0.2, width = 0.02;  // m
+};
+
+struct Terrain {
+  Eigen::Vector2d slope = Eigen::Vector2d::Zero();  // dz/dx, dz/dy: a plane through z = 0 at the origin
+  std::vector<Mound> mounds;
+  std::vector<Step> steps;
+  double roughness = 0;            // m RMS of rough ground (grass, gravel, ploughed soil)
+  double roughness_wavelength = 0.5;  // m, its typical wavelength
+  unsigned roughness_seed = 1;
+
+  bool flat() const;
+};
+
+// The terrain's surface, ready to be sampled and hit by rays (its rough ground drawn once).
+class TerrainSurface {
+ public:
+  explicit TerrainSurface(Terrain terrain = {});
+
+  double height_at(const Eigen::Vector2d& xy) const;
+  // Distance along the unit `direction` from `origin` to the ground, or +inf within `range`
+  // (also from under the ground).
+  double cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double range = 1000) const;
+  const Terrain& terrain() const { return terrain_; }
+
+ private:
+  struct Wave {
+    Eigen::Vector2d k;  // rad/m
+    double phase = 0, amplitude = 0;
+  };
+  Terrain terrain_;
+  std::vector<Wave> waves_;
+  double max_gradient_ = 0;  // an upper bound of |gradient|: how far a ray may step without passing through
+};
+
+// A terrain from the `terrain` map of a YAML file (docs/mav_simulator.md): slope, mounds,
+// steps, roughness, roughness_wavelength, seed. Throws ConfigError naming the key.
+Terrain terrain_from_config(const Config& section);
+
+}  // namespace scanbus::mav_sim

@@ -1,0 +1,95 @@
+#include "scanbus/mav_sim/terrain.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "scanbus/config.hpp"
+
+namespace scanbus::mav_sim {
+
+namespace {
+
+double ramp(double s, double width) { return std::clamp(s / width + 0.5, 0.0, 1.0); }
+
+}  // namespace
+
+bool Terrain::flat() const { return slope.isZero() && mounds.empty() && steps.empty() && roughness <= 0; }
+
+// Rough ground as a few plane waves of random direction, wavelength and phase: smooth, so a
+// ray meets it once, and with a bounded gradient; their amplitude sets the RMS.
+TerrainSurface::TerrainSurface(Terrain terrain) : terrain_(std::move(terrain)) {
+  constexpr int kWaves = 8;
+  max_gradient_ = terrain_.slope.norm();
+  for (const Mound& m : terrain_.mounds) max_gradient_ += std::abs(m.height) * M_PI / (2 * m.radius);
+  for (const Step& s : terrain_.steps) max_gradient_ += std::abs(s.height) / s.width;
+  if (terrain_.roughness <= 0) return;
+  std::mt19937 random(terrain_.roughness_seed);
+  std::uniform_real_distribution<double> unit(0, 1);
+  const double amplitude = terrain_.roughness * std::sqrt(2.0 / kWaves);  // the RMS of a sum of sines
+  for (int i = 0; i < kWaves; ++i) {
+    const double angle = 2 * M_PI * unit(random);
+    const double wavelength = terrain_.roughness_wavelength * (0.5 + unit(random));
+    const Eigen::Vector2d k = Eigen::Vector2d(std::cos(angle), std::sin(angle)) * (2 * M_PI / wavelength);
+    waves_.push_back({k, 2 * M_PI * unit(random), amplitude});
+    max_gradient_ += amplitude * k.norm();
+  }
+}
+
+double TerrainSurface::height_at(const Eigen::Vector2d& xy) const {
+  double z = terrain_.slope.dot(xy);
+  for (const Mound& m : terrain_.mounds) {
+    const double d = (xy - m.centre).norm();
+    if (d < m.radius) z += m.height * (1 + std::cos(M_PI * d / m.radius)) / 2;
+  }
+  for (const Step& s : terrain_.steps)
+    z += s.height * ramp(Eigen::Vector2d(std::cos(s.direction), std::sin(s.direction)).dot(xy - s.at), s.width);
+  for (const Wave& w : waves_) z += w.amplitude * std::sin(w.k.dot(xy) + w.phase);
+  return z;
+}
+
+double TerrainSurface::cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double range) const {
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  if (terrain_.flat()) {
+    const double t = direction.z() < -1e-12 ? -origin.z() / direction.z() : kNone;
+    return t >= 0 && t <= range ? t : kNone;
+  }
+  // Sphere tracing: the gap between the ray and the ground closes at most at |dz| + G |dxy|
+  // per metre of ray, so a step of gap / that rate never passes through the ground.
+  constexpr double kHit = 1e-5;  // m
+  const double rate = std::abs(direction.z()) + max_gradient_ * direction.head<2>().norm();
+  if (rate <= 0) return kNone;
+  double t = 0;
+  for (int i = 0; i < 100000 && t <= range; ++i) {
+    const Eigen::Vector3d p = origin + t * direction;
+    const double gap = p.z() - height_at(p.head<2>());
+    if (gap < kHit) return gap < -kHit && t == 0 ? kNone : t;
+    t += gap / rate;
+  }
+  return kNone;
+}
+
+Terrain terrain_from_config(const Config& section) {
+  Terrain terrain;
+  if (section.has("slope")) {
+    const auto slope = section.numbers("slope", 2);
+    terrain.slope = {slope[0], slope[1]};
+    if (terrain.slope.norm() > 1) section.fail("slope", "is steeper than 45 degrees: not ground a MAV maps");
+  }
+  for (const Config& m : section.maps("mounds")) {
+    const auto centre = m.numbers("centre", 2);
+    terrain.mounds.push_back({{centre[0], centre[1]}, m.number("radius", 1, 0.05, 1000), m.number("height", 0.3, -100, 100)});
+  }
+  for (const Config& s : section.maps("steps")) {
+    const auto at = s.numbers("at", 2);
+    terrain.steps.push_back({{at[0], at[1]}, s.number("direction", 0, -360, 360) * M_PI / 180,
+                             s.number("height", 0.2, -100, 100), s.number("width", 0.02, 0.001, 100)});
+  }
+  terrain.roughness = section.number("roughness", 0, 0, 1);
+  terrain.roughness_wavelength = section.number("roughness_wavelength", 0.5, 0.05, 100);
+  terrain.roughness_seed = static_cast<unsigned>(section.integer("seed", 1, 0, 4294967295LL));
+  return terrain;
+}
+
+}  // namespace scanbus::mav_sim
