@@ -48,6 +48,29 @@ scan_matcher::MatcherSettings mav_matcher_settings() {
   return settings;
 }
 
+GroundModelError ground_model_error(const std::vector<Eigen::Vector3f>& cloud,
+                                    const std::function<std::optional<double>(const Eigen::Vector2d&)>& true_ground) {
+  GroundModelError error;
+  std::vector<double> sizes;
+  double squares = 0, sum = 0;
+  for (const auto& p : cloud) {
+    const std::optional<double> ground = true_ground(p.head<2>().cast<double>());
+    if (!ground) continue;
+    const double e = p.z() - *ground;
+    squares += e * e, sum += e;
+    sizes.push_back(std::abs(e));
+  }
+  error.points = sizes.size();
+  if (sizes.empty()) return error;
+  const auto n = static_cast<double>(sizes.size());
+  error.rmse = std::sqrt(squares / n);
+  error.bias = sum / n;
+  std::sort(sizes.begin(), sizes.end());
+  error.median = sizes[sizes.size() / 2];
+  error.p95 = sizes[std::min(sizes.size() - 1, static_cast<size_t>(0.95 * n))];
+  return error;
+}
+
 FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettings& settings,
                                  const std::function<void(size_t, size_t)>& progress) {
   const auto& mount = log.meta_of("laser_mount", 6);
@@ -137,6 +160,9 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
   result.changes_rejected = estimator.fusion().changes_rejected();
   result.ground_levels = estimator.fusion().ground_levels();
   result.fusion_ms_per_update = result.poses ? fusion_time.count() * 1000 / static_cast<double>(result.poses) : 0;
+  result.has_ground = static_cast<bool>(settings.true_ground);
+  if (result.has_ground)
+    for (int source = 0; source < 3; ++source) result.ground[source] = ground_model_error(result.cloud[source], settings.true_ground);
   const auto boxes = log.meta.find("boxes");
   result.has_boxes = boxes != log.meta.end() && boxes->second.size() >= 2;
   if (result.has_boxes) {

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <random>
 #include <stdexcept>
 
@@ -62,6 +63,7 @@ void validate(const FlightSettings& s) {
   check(s.noise.gps_velocity_time > 0 && s.noise.gps_wander_time > 0, "GPS correlation times must be positive");
   check(s.laser.field_of_view > 0 && s.laser.field_of_view <= 2 * M_PI, "laser field of view must be in (0, 360] degrees");
   check(s.laser.step > 1e-4 && s.laser.field_of_view / s.laser.step < 20000, "laser step too small");
+  if (const auto problem = terrain_problem(s.terrain)) throw std::invalid_argument("terrain: " + problem->message());
 }
 
 }  // namespace
@@ -101,6 +103,44 @@ GroundWorld scenario_world(const FlightSettings& s) {
 
 namespace {
 
+// META terrain_slope sx sy; terrain_mounds cx cy radius height ...; terrain_steps ax ay
+// direction height width ...; terrain_roughness rms wavelength seed (docs/mav_log.md).
+void write_terrain(const Terrain& terrain, std::map<std::string, std::vector<double>>& meta) {
+  if (!terrain.slope.isZero()) meta["terrain_slope"] = {terrain.slope.x(), terrain.slope.y()};
+  for (const Mound& m : terrain.mounds)
+    meta["terrain_mounds"].insert(meta["terrain_mounds"].end(), {m.centre.x(), m.centre.y(), m.radius, m.height});
+  for (const Step& st : terrain.steps)
+    meta["terrain_steps"].insert(meta["terrain_steps"].end(), {st.at.x(), st.at.y(), st.direction, st.height, st.width});
+  if (terrain.roughness > 0)
+    meta["terrain_roughness"] = {terrain.roughness, terrain.roughness_wavelength, static_cast<double>(terrain.roughness_seed)};
+}
+
+Terrain read_terrain(const sensor_replay::MavLog& log) {
+  Terrain terrain;
+  auto values = [&](const char* name, size_t group) -> std::vector<double> {
+    const auto found = log.meta.find(name);
+    if (found == log.meta.end()) return {};
+    if (found->second.size() % group != 0 || found->second.empty())
+      throw sensor_replay::MavLogError(std::string("META ") + name + " needs groups of " + std::to_string(group) + " values");
+    return found->second;
+  };
+  if (const auto v = values("terrain_slope", 2); !v.empty()) terrain.slope = {v[0], v[1]};
+  const auto mounds = values("terrain_mounds", 4);
+  for (size_t i = 0; i < mounds.size(); i += 4) {
+    terrain.mounds.push_back({{mounds[i], mounds[i + 1]}, mounds[i + 2], mounds[i + 3]});
+  }
+  const auto steps = values("terrain_steps", 5);
+  for (size_t i = 0; i < steps.size(); i += 5) {
+    terrain.steps.push_back({{steps[i], steps[i + 1]}, steps[i + 2], steps[i + 3], steps[i + 4]});
+  }
+  if (const auto v = values("terrain_roughness", 3); !v.empty()) {
+    if (!(v[2] >= 0 && v[2] <= 4294967295.0)) throw sensor_replay::MavLogError("META terrain_roughness: the seed is out of range");
+    terrain.roughness = v[0], terrain.roughness_wavelength = v[1], terrain.roughness_seed = static_cast<unsigned>(v[2]);
+  }
+  if (const auto problem = terrain_problem(terrain)) throw sensor_replay::MavLogError("META terrain: " + problem->message());
+  return terrain;
+}
+
 // The MAV holds its altitude: the ground under it must stay clear of it.
 void check_clearance(const FlightSettings& s, const GroundWorld& world) {
   constexpr double kClearance = 0.5, kEvery = 0.1;  // m, s
@@ -120,6 +160,20 @@ void check_clearance(const FlightSettings& s, const GroundWorld& world) {
 
 Eigen::Isometry3d laser_in_body(const LaserSettings& laser) { return transforms::from_xyz_rpy(laser.position, laser.rpy); }
 
+std::optional<GroundWorld> world_of_log(const sensor_replay::MavLog& log) {
+  const auto scenario = log.meta.find("scenario");
+  if (scenario == log.meta.end() || scenario->second.size() != 1) return std::nullopt;
+  if (!(scenario->second[0] >= 1 && scenario->second[0] <= 4)) throw sensor_replay::MavLogError("META scenario is not 1 to 4");
+  FlightSettings settings;
+  settings.scenario = static_cast<int>(scenario->second[0]);
+  if (settings.scenario == 4) {
+    const auto& box = log.meta_of("boxes", 3);
+    settings.box_size = {box[0], box[1], box[2]};
+  }
+  settings.terrain = read_terrain(log);
+  return scenario_world(settings);
+}
+
 sensor_replay::MavLog simulate_flight(const FlightSettings& s) {
   validate(s);
   std::mt19937 random(s.seed);
@@ -134,6 +188,7 @@ sensor_replay::MavLog simulate_flight(const FlightSettings& s) {
   log.meta["laser_mount"] = {s.laser.position.x(), s.laser.position.y(), s.laser.position.z(),
                              s.laser.rpy.x(), s.laser.rpy.y(), s.laser.rpy.z()};
   if (s.scenario == 4) log.meta["boxes"] = {s.box_size.x(), s.box_size.y(), s.box_size.z()};
+  write_terrain(s.terrain, log.meta);
 
   const int rays = static_cast<int>(std::floor(s.laser.field_of_view / s.laser.step + 1e-9)) + 1;
   for (double t = 0; t < s.duration; t += 1 / s.laser.rate) {

@@ -49,4 +49,19 @@ double GroundWorld::height_at(const Eigen::Vector2d& xy) const {
   return top;
 }
 
+std::optional<double> GroundWorld::scored_height(const Eigen::Vector2d& xy, double margin) const {
+  for (const Box& box : boxes_) {
+    const Eigen::Vector2d local = Eigen::Rotation2Dd(-box.yaw) * (xy - box.centre);
+    const Eigen::Vector2d half = box.size.head<2>() / 2;
+    const Eigen::Vector2d outside = local.cwiseAbs() - half;  // per axis, > 0 outside the footprint
+    const double distance = outside.maxCoeff() > 0 ? outside.cwiseMax(0).norm() : -outside.maxCoeff();
+    if (distance < margin) return std::nullopt;
+  }
+  for (const Step& step : terrain_.terrain().steps) {
+    const double across = Eigen::Vector2d(std::cos(step.direction), std::sin(step.direction)).dot(xy - step.at);
+    if (std::abs(across) < step.width / 2 + margin) return std::nullopt;
+  }
+  return height_at(xy);
+}
+
 }  // namespace scanbus::mav_sim

@@ -70,25 +70,47 @@ double TerrainSurface::cast(const Eigen::Vector3d& origin, const Eigen::Vector3d
   return kNone;
 }
 
+std::optional<TerrainProblem> terrain_problem(const Terrain& t) {
+  auto outside = [](double v, double low, double high) { return !(v >= low && v <= high); };
+  if (!t.slope.allFinite() || t.slope.norm() > 1) return TerrainProblem{"slope", "is steeper than 45 degrees: not ground a MAV maps"};
+  for (size_t i = 0; i < t.mounds.size(); ++i) {
+    const std::string name = "mounds[" + std::to_string(i) + "]";
+    if (!t.mounds[i].centre.allFinite() || t.mounds[i].centre.norm() > 1e5) return TerrainProblem{name + ".centre", "is not a place on the map"};
+    if (outside(t.mounds[i].radius, 0.05, 1000)) return TerrainProblem{name + ".radius", "must be 0.05 to 1000 m"};
+    if (outside(t.mounds[i].height, -100, 100)) return TerrainProblem{name + ".height", "must be within 100 m"};
+  }
+  for (size_t i = 0; i < t.steps.size(); ++i) {
+    const std::string name = "steps[" + std::to_string(i) + "]";
+    if (!t.steps[i].at.allFinite() || t.steps[i].at.norm() > 1e5) return TerrainProblem{name + ".at", "is not a place on the map"};
+    if (!std::isfinite(t.steps[i].direction)) return TerrainProblem{name + ".direction", "is not a number"};
+    if (outside(t.steps[i].height, -100, 100)) return TerrainProblem{name + ".height", "must be within 100 m"};
+    if (outside(t.steps[i].width, 0.001, 100)) return TerrainProblem{name + ".width", "must be 0.001 to 100 m"};
+  }
+  if (outside(t.roughness, 0, 1)) return TerrainProblem{"roughness", "must be 0 to 1 m RMS"};
+  if (outside(t.roughness_wavelength, 0.05, 100)) return TerrainProblem{"roughness_wavelength", "must be 0.05 to 100 m"};
+  return std::nullopt;
+}
+
 Terrain terrain_from_config(const Config& section) {
   Terrain terrain;
   if (section.has("slope")) {
     const auto slope = section.numbers("slope", 2);
     terrain.slope = {slope[0], slope[1]};
-    if (terrain.slope.norm() > 1) section.fail("slope", "is steeper than 45 degrees: not ground a MAV maps");
   }
   for (const Config& m : section.maps("mounds")) {
     const auto centre = m.numbers("centre", 2);
-    terrain.mounds.push_back({{centre[0], centre[1]}, m.number("radius", 1, 0.05, 1000), m.number("height", 0.3, -100, 100)});
+    terrain.mounds.push_back({{centre[0], centre[1]}, m.number("radius", 1, -1e300, 1e300), m.number("height", 0.3, -1e300, 1e300)});
   }
   for (const Config& s : section.maps("steps")) {
     const auto at = s.numbers("at", 2);
     terrain.steps.push_back({{at[0], at[1]}, s.number("direction", 0, -360, 360) * M_PI / 180,
-                             s.number("height", 0.2, -100, 100), s.number("width", 0.02, 0.001, 100)});
+                             s.number("height", 0.2, -1e300, 1e300), s.number("width", 0.02, -1e300, 1e300)});
   }
-  terrain.roughness = section.number("roughness", 0, 0, 1);
-  terrain.roughness_wavelength = section.number("roughness_wavelength", 0.5, 0.05, 100);
+  terrain.roughness = section.number("roughness", 0, -1e300, 1e300);
+  terrain.roughness_wavelength = section.number("roughness_wavelength", 0.5, -1e300, 1e300);
   terrain.roughness_seed = static_cast<unsigned>(section.integer("seed", 1, 0, 4294967295LL));
+  // The limits live in terrain_problem(), shared with logs and code; named here by key.
+  if (const auto problem = terrain_problem(terrain)) section.fail(problem->key, problem->what);
   return terrain;
 }
 

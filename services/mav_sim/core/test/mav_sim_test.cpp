@@ -110,6 +110,44 @@ TEST(Flight, TheLaserSeesTheTerrainAndTheMavKeepsItsAltitude) {
   }
 }
 
+TEST(GroundWorld, EdgesAreNotScored) {
+  Terrain terrain;
+  terrain.steps = {{{8, 0}, 0, 0.2, 0.02}};
+  const GroundWorld world({{{4, 0}, 0, {0.6, 0.4, 0.3}}}, terrain);
+  EXPECT_NEAR(*world.scored_height({4, 0}, 0.1), 0.3, 1e-9);     // the box's top, 0.2 m inside
+  EXPECT_FALSE(world.scored_height({4.25, 0}, 0.1).has_value());  // 5 cm inside its end
+  EXPECT_FALSE(world.scored_height({4.35, 0}, 0.1).has_value());  // 5 cm past it
+  EXPECT_NEAR(*world.scored_height({4.45, 0}, 0.1), 0.0, 1e-9);
+  EXPECT_FALSE(world.scored_height({8.05, 3}, 0.1).has_value());  // on the step's ramp side
+  EXPECT_NEAR(*world.scored_height({8.2, 3}, 0.1), 0.2, 1e-9);
+}
+
+// A simulated log carries its ground (META scenario, boxes, terrain_*): the same world comes
+// back from the text file, and a log that does not say has none.
+TEST(Flight, TheLogCarriesItsTrueGround) {
+  FlightSettings settings;
+  settings.scenario = 4;
+  settings.duration = 1;
+  settings.terrain.slope = {0.03, -0.01};
+  settings.terrain.mounds = {{{2, 1}, 1.5, -0.2}};
+  settings.terrain.steps = {{{9, 0}, 0.5, 0.1, 0.04}};
+  settings.terrain.roughness = 0.02;
+  const std::string path = ::testing::TempDir() + "/terrain_flight.mavlog";
+  sensor_replay::write_mav_log(path, simulate_flight(settings));
+  const auto log = sensor_replay::read_mav_log(path);
+  const auto world = world_of_log(log);
+  ASSERT_TRUE(world.has_value());
+  const GroundWorld truth = scenario_world(settings);
+  for (double x = -2; x < 12; x += 0.37)
+    for (double y = -3; y < 3; y += 0.41) EXPECT_NEAR(world->height_at({x, y}), truth.height_at({x, y}), 1e-6) << x << " " << y;
+  auto unknown = log;
+  unknown.meta.erase("scenario");
+  EXPECT_FALSE(world_of_log(unknown).has_value());
+  auto broken = log;
+  broken.meta["terrain_mounds"].pop_back();
+  EXPECT_THROW(world_of_log(broken), sensor_replay::MavLogError);
+}
+
 TEST(Terrain, FromYaml) {
   const Config config = Config::parse(R"(terrain:
   slope: [0.05, 0]

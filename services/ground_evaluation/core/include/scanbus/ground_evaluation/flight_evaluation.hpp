@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,7 +34,19 @@ struct FlightEvaluationSettings {
   bool ground_clearance = true;  // false: the fusion of barometer and scan matcher alone
   cloud_assembly::ScanGating gating{30.0, M_PI / 2};  // the paper: 30 m, 90 degrees
   BoxSearchSettings boxes;
+  // The true ground's height at (x, y), none where a point is not scored (near an edge); empty
+  // when the flight's ground is not known (a real flight): no ground-model error then.
+  std::function<std::optional<double>(const Eigen::Vector2d&)> true_ground;
 };
+
+// A ground cloud's heights against the true ground, over the points where it is scored.
+struct GroundModelError {
+  size_t points = 0;  // scored
+  double rmse = NAN, median = NAN, p95 = NAN;  // m, of the height error (median and p95 of its size)
+  double bias = NAN;                           // m, the mean signed error (+: the cloud lies high)
+};
+GroundModelError ground_model_error(const std::vector<Eigen::Vector3f>& cloud,
+                                    const std::function<std::optional<double>(const Eigen::Vector2d&)>& true_ground);
 
 // A height over time, interpolated linearly between samples (held beyond them); samples
 // are added in time order.
@@ -64,6 +77,8 @@ struct FlightEvaluation {
   double fusion_ms_per_update = 0;    // wall time of the pose estimator per scan
   bool has_boxes = false;             // the log names its boxes (scenario IV)
   BoxEvaluation boxes[3];             // the cloud built with each height
+  bool has_ground = false;            // the true ground is known (settings.true_ground)
+  GroundModelError ground[3];         // the cloud built with each height against it
   std::vector<Eigen::Vector3f> cloud[3];  // every return in the map frame, by HeightSource
   std::vector<HeightSample> heights;      // one per pose
 };

@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include <optional>
 #include <string>
 
 #include "scanbus/mav_sim/ground_world.hpp"
@@ -75,6 +76,10 @@ BodyState scenario_state(const FlightSettings& settings, double t);
 GroundWorld scenario_world(const FlightSettings& settings);
 // The laser's pose in base_link.
 Eigen::Isometry3d laser_in_body(const LaserSettings& laser);
+
+// The true ground of a simulated flight's log (its META scenario, boxes and terrain_*
+// records), or none for a log that does not say (a real flight).
+std::optional<GroundWorld> world_of_log(const sensor_replay::MavLog& log);
 
 // Flies the scenario and returns every sensor sample and the truth (at 100 Hz). Throws
 // std::invalid_argument naming a setting out of range (also a terrain that comes within

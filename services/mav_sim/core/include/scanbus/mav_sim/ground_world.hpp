@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 
+#include <optional>
 #include <vector>
 
 #include "scanbus/mav_sim/terrain.hpp"
@@ -26,6 +27,9 @@ class GroundWorld {
   double cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
   // Height of the surface at (x, y).
   double height_at(const Eigen::Vector2d& xy) const;
+  // The height where a cloud point's height error means something: none within `margin` of
+  // a box's edge or a step's ramp, where a few centimetres across decide between two heights.
+  std::optional<double> scored_height(const Eigen::Vector2d& xy, double margin) const;
   const std::vector<Box>& boxes() const { return boxes_; }
   const TerrainSurface& terrain() const { return terrain_; }
 

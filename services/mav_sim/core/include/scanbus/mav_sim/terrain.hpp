@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,15 @@ class TerrainSurface {
   std::vector<Wave> waves_;
   double max_gradient_ = 0;  // an upper bound of |gradient|: how far a ray may step without passing through
 };
+
+// What is wrong with a terrain, if anything: slopes up to 45 degrees, mound radii 0.05-1000 m,
+// heights within 100 m, step ramps 1 mm-100 m wide, roughness up to 1 m RMS, wavelengths
+// 0.05-100 m. `key` names the feature as the YAML file does ("mounds[1].radius").
+struct TerrainProblem {
+  std::string key, what;
+  std::string message() const { return key + " " + what; }
+};
+std::optional<TerrainProblem> terrain_problem(const Terrain& terrain);
 
 // A terrain from the `terrain` map of a YAML file (docs/mav_simulator.md): slope, mounds,
 // steps, roughness, roughness_wavelength, seed. Throws ConfigError naming the key.
