@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The MAV targets across noise seeds: `scanbus eval mav` (four 3-minute scenarios) for each
 # seed, one markdown row per seed (fused height RMSE, its ratio to the better single source
-# in each scenario, scenario IV's box P with each height) and a summary. Extra arguments go
+# in each scenario, scenario IV's box P with each height, the fused cloud's height error
+# against the true ground: RMSE and bias, worst scenario) and a summary. Extra arguments go
 # to `scanbus eval mav` (e.g. --no-ground). About 30 s per seed on one core.
-#   bench/mav_seeds.sh [--seeds 1-10] [eval mav options]
+#   bench/mav_seeds.sh [--seeds 1-10] [eval mav options, e.g. --terrain config/mav/terrain_slope_mound.yaml]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 first=1 last=10
@@ -26,13 +27,15 @@ done
 python3 - "$work" "$first" "$last" <<'PY'
 import json, statistics, sys
 folder, first, last = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-print("| seed | fused RMSE | ratio I | II | III | IV | scenario IV P: barometer | scan matcher | fused |")
-print("|---|---|---|---|---|---|---|---|---|")
-ratios, held, p_fused = [], 0, []
+print("| seed | fused RMSE | ratio I | II | III | IV | scenario IV P: barometer | scan matcher | fused | ground RMSE fused (worst) | its bias |")
+print("|---|---|---|---|---|---|---|---|---|---|---|")
+ratios, held, p_fused, ground = [], 0, [], []
 for seed in range(first, last + 1):
     flights = json.load(open(f"{folder}/{seed}.json"))
-    row, fused = [], []
+    row, fused, worst = [], [], None
     for flight in flights:
+        g = flight.get("ground_error_m", {}).get("fused")
+        if g and (worst is None or g["rmse"] > worst["rmse"]): worst = g
         rmse = flight["height_rmse_m"]
         ratio = rmse["fused"] / min(rmse["barometer"], rmse["scan_matcher"])
         ratios.append(ratio)
@@ -43,10 +46,14 @@ for seed in range(first, last + 1):
     p = {k: (v["performance_percent"] if v["ok"] else 0.0) for k, v in boxes.items()}
     if p: p_fused.append(p["fused"])
     cells = [f"{p[k]:.2f} %" for k in ("barometer", "scan_matcher", "fused")] if p else ["", "", ""]
+    if worst: ground.append(worst["rmse"])
+    cells += [f"{worst['rmse']:.3f} m", f"{worst['bias']:+.3f} m"] if worst else ["", ""]
     print(f"| {seed} | {min(fused):.3f}-{max(fused):.3f} m | " + " | ".join(row) + " | " + " | ".join(cells) + " |")
 print()
 print(f"fused <= half the better source: {held} of {len(ratios)} flights; ratio median {statistics.median(ratios):.2f}, "
       f"worst {max(ratios):.2f}")
+if ground:
+    print(f"fused ground RMSE, worst scenario of each seed: median {statistics.median(ground):.3f} m, worst {max(ground):.3f} m")
 if p_fused:
     print(f"scenario IV P fused >= 99 %: {sum(p >= 99 for p in p_fused)} of {len(p_fused)} seeds; median "
           f"{statistics.median(p_fused):.2f} %, lowest {min(p_fused):.2f} %")

@@ -1,6 +1,7 @@
 #include "scanbus/ground_evaluation/box_evaluation.hpp"
 
 #include <ceres/ceres.h>
+#include <glog/logging.h>
 #include <Eigen/Eigenvalues>
 #include <pcl/ModelCoefficients.h>
 #include <pcl/point_types.h>
@@ -66,6 +67,9 @@ Extent extent(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d&
   options.function_tolerance = 1e-12;  // the cost is a sum over many points: tiny relative changes still move the sides
   options.gradient_tolerance = 1e-10;
   options.parameter_tolerance = 1e-12;
+  // Ceres's line search warns through glog when a step's interpolating polynomial is flat
+  // (harmless: it bisects then); a user's terminal should not fill with it.
+  FLAGS_minloglevel = std::max(FLAGS_minloglevel, static_cast<int>(google::GLOG_ERROR));
   ceres::GradientProblemSolver::Summary summary;
   ceres::Solve(options, problem, parameters, &summary);
   return {parameters[0], parameters[1], summary.final_cost};
