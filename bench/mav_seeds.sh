@@ -4,7 +4,7 @@
 # in each scenario, scenario IV's box P with each height, the fused cloud's height error
 # against the true ground: RMSE and bias, worst scenario) and a summary. Extra arguments go
 # to `scanbus eval mav` (e.g. --no-ground). About 30 s per seed on one core.
-#   bench/mav_seeds.sh [--seeds 1-10] [eval mav options, e.g. --terrain config/mav/terrain_slope_mound.yaml]
+#   bench/mav_seeds.sh [--seeds 1-10] [eval mav options, e.g. --terrain config/terrain/slope_mound.yaml]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 first=1 last=10

@@ -70,7 +70,7 @@ void add_flight_options(CLI::App& command, FlightOptions& options) {
   command.add_option("--laser-rays", options.laser_rays, "Rays per scan, 0.25 degrees apart, centred on straight down")
       ->check(CLI::Range(2, 1441));
   command.add_option("--terrain", options.terrain, "YAML file whose `terrain` map shapes the ground under the scenario "
-                     "(slope, mounds, steps, roughness; config/mav/terrain_slope_mound.yaml); default flat")
+                     "(slope, mounds, steps, roughness; config/terrain/slope_mound.yaml); default flat")
       ->check(CLI::ExistingFile);
 }
 

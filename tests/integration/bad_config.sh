@@ -48,4 +48,13 @@ for config in "$(dirname "$0")"/../../config/services/*.yaml "$(dirname "$0")"/.
   fi
 done
 
+# Every shipped terrain (config/terrain/) flies.
+for terrain in "$(dirname "$0")"/../../config/terrain/*.yaml; do
+  if "$scanbus" sim mav --terrain "$terrain" --duration 1 --out "$work/terrain.mavlog" > "$work/out" 2>&1; then
+    echo "ok   $terrain: $(cat "$work/out")"
+  else
+    echo "FAIL shipped terrain $terrain:"; cat "$work/out"; failures=$((failures + 1))
+  fi
+done
+
 [ "$failures" -eq 0 ]
