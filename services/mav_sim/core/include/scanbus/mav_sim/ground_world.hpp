@@ -20,7 +20,8 @@ struct Box {
 
 class GroundWorld {
  public:
-  // Each box stands on the terrain at its centre (on a slope its uphill edge is buried).
+  // Each box stands on the terrain at its centre: on a slope its uphill edge is buried and its
+  // downhill edge stands off the ground by the slope times half its length (1.6 cm for 0.6 m on 3 degrees).
   explicit GroundWorld(std::vector<Box> boxes = {}, Terrain terrain = {});
 
   // Distance along the unit `direction` from `origin` to the first surface, or +inf.
