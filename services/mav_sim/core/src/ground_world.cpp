@@ -58,8 +58,7 @@ std::optional<double> GroundWorld::scored_height(const Eigen::Vector2d& xy, doub
     if (distance < margin) return std::nullopt;
   }
   for (const Step& step : terrain_.terrain().steps) {
-    const double across = Eigen::Vector2d(std::cos(step.direction), std::sin(step.direction)).dot(xy - step.at);
-    if (std::abs(across) < step.width / 2 + margin) return std::nullopt;
+    if (std::abs(step.across(xy)) < step.width / 2 + margin) return std::nullopt;
   }
   return height_at(xy);
 }

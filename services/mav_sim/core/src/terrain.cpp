@@ -44,7 +44,7 @@ double TerrainSurface::height_at(const Eigen::Vector2d& xy) const {
     if (d < m.radius) z += m.height * (1 + std::cos(M_PI * d / m.radius)) / 2;
   }
   for (const Step& s : terrain_.steps)
-    z += s.height * ramp(Eigen::Vector2d(std::cos(s.direction), std::sin(s.direction)).dot(xy - s.at), s.width);
+    z += s.height * ramp(s.across(xy), s.width);
   for (const Wave& w : waves_) z += w.amplitude * std::sin(w.k.dot(xy) + w.phase);
   return z;
 }

@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
+
 #include <optional>
 #include <string>
 #include <vector>
@@ -27,6 +29,9 @@ struct Step {
   Eigen::Vector2d at = Eigen::Vector2d::Zero();
   double direction = 0;  // rad
   double height = 0.2, width = 0.02;  // m
+
+  // Signed distance of (x, y) across the step's line, towards where the ground is higher.
+  double across(const Eigen::Vector2d& xy) const { return Eigen::Vector2d(std::cos(direction), std::sin(direction)).dot(xy - at); }
 };
 
 struct Terrain {
