@@ -150,7 +150,7 @@ nlohmann::json evaluation_json(const std::string& name, const FlightEvaluation& 
                       {"failed_matches", e.matches_failed},
                       {"rejected_changes", e.changes_rejected},
                       {"clearances", e.clearances},
-                      {"ground_levels", e.ground_levels},
+                      {"ground_cells", e.ground_cells},
                       {"fusion_ms_per_update", e.fusion_ms_per_update}};
   if (!e.has_ground) json["ground_error_note"] = "not measured: the log does not carry its true ground (META scenario)";
   for (int source = 0; source < 3; ++source) {

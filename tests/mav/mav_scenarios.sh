@@ -34,7 +34,7 @@ for name in sys.argv[1:]:
         print(f"{flight['flight']}: height RMSE barometer {rmse['barometer']:.3f}, scan matcher "
               f"{rmse['scan_matcher']:.3f}, fused {rmse['fused']:.3f} m (ratio {rmse['fused'] / best:.2f}), "
               f"{flight['failed_matches']} failed matches, {flight['clearances']} clearances, "
-              f"{flight['ground_levels']} ground levels, fusion {flight['fusion_ms_per_update']:.2f} ms per scan")
+              f"{flight['ground_cells']} ground cells, fusion {flight['fusion_ms_per_update']:.2f} ms per scan")
         ok &= rmse["fused"] <= 0.5 * best
         if "boxes" in flight:
             p = {k: v["performance_percent"] if v["ok"] else 0.0 for k, v in flight["boxes"].items()}

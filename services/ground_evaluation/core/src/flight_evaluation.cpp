@@ -158,7 +158,7 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
   for (int source = 0; source < 3; ++source)
     result.height_rmse[source] = result.poses ? std::sqrt(squared[source] / static_cast<double>(result.poses)) : NAN;
   result.changes_rejected = estimator.fusion().changes_rejected();
-  result.ground_levels = estimator.fusion().ground_levels();
+  result.ground_cells = estimator.fusion().ground_cells();
   result.fusion_ms_per_update = result.poses ? fusion_time.count() * 1000 / static_cast<double>(result.poses) : 0;
   result.has_ground = static_cast<bool>(settings.true_ground);
   if (result.has_ground)

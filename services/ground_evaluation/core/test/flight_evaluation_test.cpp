@@ -1,7 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <tuple>
+#include <vector>
+
 #include "scanbus/ground_evaluation/flight_evaluation.hpp"
 #include "scanbus/mav_sim/flight.hpp"
+#include "scanbus/pose_estimation/pose_estimator.hpp"
 
 using namespace scanbus;
 using namespace scanbus::ground_evaluation;
@@ -18,6 +22,39 @@ TEST(FlightEvaluation, TheMavDeploymentMatchesAsTheEvaluationDoes) {
   EXPECT_DOUBLE_EQ(deployed.max_correspondence, evaluated.max_correspondence);
   EXPECT_DOUBLE_EQ(deployed.range_max, evaluated.range_max);
   EXPECT_DOUBLE_EQ(deployed.trim, evaluated.trim);
+}
+
+TEST(FlightEvaluation, TheDeployedFusionIsTheEvaluatedOne) {
+  // config/services/pose_estimation.yaml against the defaults `scanbus eval mav` runs with.
+  const auto deployed = pose_estimation::pose_estimator_settings_from_config(
+                            Config::load(std::string(SCANBUS_SOURCE_DIR) + "/config/services/pose_estimation.yaml")
+                                .section("pose_estimation"))
+                            .fusion;
+  const pose_estimation::FusionSettings evaluated;
+  for (const auto& [name, a, b] : std::vector<std::tuple<const char*, double, double>>{
+           {"window", deployed.window, evaluated.window},
+           {"baro_sigma", deployed.baro_sigma, evaluated.baro_sigma},
+           {"baro_gate_time", deployed.baro_gate_time, evaluated.baro_gate_time},
+           {"bias_random_walk", deployed.bias_random_walk, evaluated.bias_random_walk},
+           {"bias_spacing", deployed.bias_spacing, evaluated.bias_spacing},
+           {"initial_bias_sigma", deployed.initial_bias_sigma, evaluated.initial_bias_sigma},
+           {"gps_wander_time", deployed.gps_wander_time, evaluated.gps_wander_time},
+           {"change_sigma", deployed.change_sigma, evaluated.change_sigma},
+           {"change_loss", deployed.change_loss, evaluated.change_loss},
+           {"change_gate", deployed.change_gate, evaluated.change_gate},
+           {"height_walk", deployed.height_walk, evaluated.height_walk},
+           {"gate_memory", deployed.gate_memory, evaluated.gate_memory},
+           {"solve_every", double(deployed.solve_every), double(evaluated.solve_every)},
+           {"cell_size", deployed.cell_size, evaluated.cell_size},
+           {"min_cell_returns", double(deployed.min_cell_returns), double(evaluated.min_cell_returns)},
+           {"clearance_sigma", deployed.clearance_sigma, evaluated.clearance_sigma},
+           {"clearance_loss", deployed.clearance_loss, evaluated.clearance_loss},
+           {"clearance_gate", deployed.clearance_gate, evaluated.clearance_gate},
+           {"ground_gradient_sigma", deployed.ground_gradient_sigma, evaluated.ground_gradient_sigma},
+           {"max_corners", double(deployed.max_corners), double(evaluated.max_corners)},
+           {"origin_on_ground", double(deployed.origin_on_ground), double(evaluated.origin_on_ground)},
+           {"origin_sigma", deployed.origin_sigma, evaluated.origin_sigma}})
+    EXPECT_DOUBLE_EQ(a, b) << name;
 }
 
 TEST(FlightEvaluation, AShortFlightGivesAPosePerScanAndTheFusionBeatsTheBarometer) {

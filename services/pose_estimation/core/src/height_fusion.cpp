@@ -1,39 +1,17 @@
 #include "scanbus/pose_estimation/height_fusion.hpp"
 
-#include <ceres/ceres.h>
-
 #include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
 
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <tuple>
+#include <unordered_map>
 
 namespace scanbus::pose_estimation {
 
 namespace {
-
-// A linear residual as a Ceres cost: one parameter block of size 1 per state.
-class LinearCost : public ceres::CostFunction {
- public:
-  LinearCost(std::vector<double> coefficients, double value, double sigma)
-      : coefficients_(std::move(coefficients)), value_(value), sigma_(sigma) {
-    set_num_residuals(1);
-    for (size_t i = 0; i < coefficients_.size(); ++i) mutable_parameter_block_sizes()->push_back(1);
-  }
-  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-    double sum = -value_;
-    for (size_t i = 0; i < coefficients_.size(); ++i) sum += coefficients_[i] * parameters[i][0];
-    residuals[0] = sum / sigma_;
-    if (jacobians)
-      for (size_t i = 0; i < coefficients_.size(); ++i)
-        if (jacobians[i]) jacobians[i][0] = coefficients_[i] / sigma_;
-    return true;
-  }
-
- private:
-  std::vector<double> coefficients_;
-  double value_, sigma_;
-};
 
 // Index of the last of sorted (stamp, state) pairs at or before t (0 when t precedes all).
 size_t before(const std::deque<std::pair<double, long>>& entries, double t) {
@@ -43,6 +21,10 @@ size_t before(const std::deque<std::pair<double, long>>& entries, double t) {
 }
 
 }  // namespace
+
+// Marginalising factorises the prior: done twice a second for the states older than the
+// window rather than at every scan.
+constexpr double kSlideEvery = 0.5;  // s
 
 HeightFusion::HeightFusion(FusionSettings settings) : settings_(settings) {}
 HeightFusion::~HeightFusion() = default;
@@ -57,7 +39,13 @@ void HeightFusion::add_barometer(double stamp, double altitude) {
   pending_.push_back({stamp, altitude, settings_.baro_sigma});
 }
 
-double HeightFusion::add_node(double stamp, std::optional<double> change, std::optional<double> clearance) {
+void HeightFusion::add_gps(double stamp, double altitude, double vertical_sigma) {
+  if (!(vertical_sigma > 0) || !std::isfinite(vertical_sigma) || !std::isfinite(altitude)) return;
+  gps_sigma_ = vertical_sigma;
+  pending_gps_.push_back({stamp, altitude, vertical_sigma});
+}
+
+double HeightFusion::add_node(double stamp, std::optional<double> change, const std::vector<GroundReturn>& ground) {
   if (change && last_change_ && stamp - last_change_->first <= settings_.gate_memory &&
       std::abs(*change - last_change_->second) > settings_.change_gate) {
     ++changes_rejected_;
@@ -67,33 +55,34 @@ double HeightFusion::add_node(double stamp, std::optional<double> change, std::o
   const bool first = nodes_.empty();
   const double predicted = first ? first_altitude_.value_or(0) : states_.at(nodes_.back().second) + change.value_or(0);
   const long height = new_state(predicted);
-  if (!first && change) {
+  const bool saw_ground = add_ground(stamp, height, ground);
+  if (!first && change && !(saw_ground && previous_saw_ground_)) {
+    // Over ground seen by both scans the change is that of the depth, which the cells
+    // measure already: only without ground is it the height's.
     residuals_.push_back({{nodes_.back().second, height}, {-1, 1}, *change, settings_.change_sigma,
                           settings_.change_loss / settings_.change_sigma});
-  } else if (!first) {
+  } else if (!first && !change) {
     // No change measured (a failed match, a blind laser): the height wanders as a random
     // walk between the nodes (whatever their rate), so it does not follow each barometer
     // sample's noise.
     const double dt = stamp - nodes_.back().first;
     residuals_.push_back({{nodes_.back().second, height}, {-1, 1}, 0.0, std::max(settings_.height_walk * std::sqrt(dt), 1e-3)});
   }
+  previous_saw_ground_ = saw_ground;
   nodes_.emplace_back(stamp, height);
-  if (clearance) add_clearance(stamp, height, *clearance);
-  while (biases_.empty() || biases_.back().first < stamp) {
-    const double at = biases_.empty() ? stamp : biases_.back().first + settings_.bias_spacing;
-    const long bias = new_state(biases_.empty() ? 0.0 : states_.at(biases_.back().second));
-    if (biases_.empty()) {
-      residuals_.push_back({{bias}, {1}, 0.0, settings_.initial_bias_sigma});
-    } else {
-      const double sigma = settings_.bias_random_walk * std::sqrt(settings_.bias_spacing);
-      residuals_.push_back({{biases_.back().second, bias}, {-1, 1}, 0.0, sigma});
-    }
-    biases_.emplace_back(at, bias);
+  extend(biases_, stamp, settings_.initial_bias_sigma, settings_.bias_random_walk * std::sqrt(settings_.bias_spacing));
+  if (gps_sigma_) {
+    // A first-order Gauss-Markov wander of the fix's sigma: steps of sigma sqrt(2 dt / time).
+    extend(gps_biases_, stamp, *gps_sigma_, *gps_sigma_ * std::sqrt(2 * settings_.bias_spacing / settings_.gps_wander_time));
   }
   // Samples up to this node now have nodes on both sides (or at the first node).
-  auto ready = std::stable_partition(pending_.begin(), pending_.end(), [&](const Sample& s) { return s.stamp <= stamp; });
-  for (auto it = pending_.begin(); it != ready; ++it) add_sample_residual(*it);
+  const auto up_to_node = [&](const Sample& sample) { return sample.stamp <= stamp; };
+  auto ready = std::stable_partition(pending_.begin(), pending_.end(), up_to_node);
+  for (auto it = pending_.begin(); it != ready; ++it) add_barometer_residual(*it);
   pending_.erase(pending_.begin(), ready);
+  ready = std::stable_partition(pending_gps_.begin(), pending_gps_.end(), up_to_node);
+  for (auto it = pending_gps_.begin(); it != ready; ++it) residuals_.push_back(interpolated(*it, gps_biases_));
+  pending_gps_.erase(pending_gps_.begin(), ready);
   slide();
   if (++since_solve_ >= settings_.solve_every) {
     solve();
@@ -102,33 +91,96 @@ double HeightFusion::add_node(double stamp, std::optional<double> change, std::o
   return states_.at(nodes_.back().second);
 }
 
-// height - level = clearance, the level the known one nearest to where the prediction puts
-// the ground (a new one when none is within the gate).
-void HeightFusion::add_clearance(double stamp, long height, double clearance) {
-  const double ground = states_.at(height) - clearance;
-  auto nearest = std::min_element(levels_.begin(), levels_.end(), [&](const Level& a, const Level& b) {
-    return std::abs(states_.at(a.state) - ground) < std::abs(states_.at(b.state) - ground);
-  });
-  if (nearest == levels_.end() || std::abs(states_.at(nearest->state) - ground) > settings_.level_gate) {
-    if (static_cast<int>(levels_.size()) >= settings_.max_levels) {
-      const auto oldest = std::min_element(levels_.begin(), levels_.end(),
-                                           [](const Level& a, const Level& b) { return a.seen < b.seen; });
-      const long state = oldest->state;
-      levels_.erase(oldest);
-      marginalise({state});
+// A bias as a random walk with states bias_spacing apart, reaching past `stamp`.
+void HeightFusion::extend(Chain& biases, double stamp, double initial_sigma, double step_sigma) {
+  while (biases.empty() || biases.back().first < stamp) {
+    const double at = biases.empty() ? stamp : biases.back().first + settings_.bias_spacing;
+    const long bias = new_state(biases.empty() ? 0.0 : states_.at(biases.back().second));
+    if (biases.empty()) {
+      residuals_.push_back({{bias}, {1}, 0.0, initial_sigma});
+    } else {
+      residuals_.push_back({{biases.back().second, bias}, {-1, 1}, 0.0, step_sigma});
     }
-    levels_.push_back({new_state(ground), stamp});
-    nearest = std::prev(levels_.end());
+    biases.emplace_back(at, bias);
   }
-  nearest->seen = stamp;
-  residuals_.push_back({{height, nearest->state}, {1, -1}, clearance, settings_.clearance_sigma,
-                        settings_.clearance_loss / settings_.clearance_sigma});
+}
+
+// In each cell the median return of the scan (a box or a stone in the cell is outvoted):
+// height - ground(xy) = depth, the ground interpolated between the cell's corners. True when
+// a cell entered.
+bool HeightFusion::add_ground(double stamp, long height, const std::vector<GroundReturn>& ground) {
+  const double size = settings_.cell_size;
+  std::map<Cell, std::vector<GroundReturn>> cells;
+  for (const auto& ret : ground) {
+    if (!ret.xy.allFinite() || !std::isfinite(ret.depth)) continue;
+    cells[{static_cast<long>(std::floor(ret.xy.x() / size)), static_cast<long>(std::floor(ret.xy.y() / size))}]
+        .push_back(ret);
+  }
+  bool entered = false;
+  for (auto& [cell, returns] : cells) {
+    if (static_cast<int>(returns.size()) < settings_.min_cell_returns) continue;
+    const auto median = returns.begin() + static_cast<long>(returns.size() / 2);
+    std::nth_element(returns.begin(), median, returns.end(),
+                     [](const GroundReturn& a, const GroundReturn& b) { return a.depth < b.depth; });
+    const double fx = median->xy.x() / size - static_cast<double>(cell.first);
+    const double fy = median->xy.y() / size - static_cast<double>(cell.second);
+    Linear residual{{height}, {1.0}, median->depth, settings_.clearance_sigma,
+                    settings_.clearance_loss / settings_.clearance_sigma};
+    const double initial = states_.at(height) - median->depth;
+    bool known = true;
+    double predicted = states_.at(height), lowest = INFINITY, highest = -INFINITY;
+    for (const auto& [dx, dy, weight] : {std::tuple{0L, 0L, (1 - fx) * (1 - fy)}, std::tuple{1L, 0L, fx * (1 - fy)},
+                                         std::tuple{0L, 1L, (1 - fx) * fy}, std::tuple{1L, 1L, fx * fy}}) {
+      const Cell at{cell.first + dx, cell.second + dy};
+      known = known && (corners_.count(at) || known_ground_.count(at));
+      const long state = corner(at, stamp, initial);
+      residual.states.push_back(state);
+      residual.coefficients.push_back(-weight);
+      predicted -= weight * states_.at(state);
+      lowest = std::min(lowest, states_.at(state));
+      highest = std::max(highest, states_.at(state));
+    }
+    // Corners apart by more than the gate have a step or an edge between them: the ramp
+    // they interpolate is not there.
+    const double gate = std::max(settings_.clearance_gate, 5 * height_sigma_);
+    if (known && (std::abs(predicted - median->depth) > gate || highest - lowest > gate)) {
+      ++cells_gated_;
+      continue;
+    }
+    residuals_.push_back(std::move(residual));
+    entered = true;
+  }
+  return entered;
+}
+
+// The corner's state, made when it is not in the problem: from its known height when it
+// was marginalised, from the map origin's altitude at the origin, else from the scan.
+long HeightFusion::corner(const Cell& cell, double stamp, double initial) {
+  if (auto it = corners_.find(cell); it != corners_.end()) {
+    it->second.seen = stamp;
+    return it->second.state;
+  }
+  const auto known = known_ground_.find(cell);
+  const long state = new_state(known != known_ground_.end() ? known->second.height : initial);
+  if (known != known_ground_.end()) {
+    residuals_.push_back({{state}, {1}, known->second.height, known->second.sigma});
+  } else if (settings_.origin_on_ground && cell == Cell{0, 0}) {
+    residuals_.push_back({{state}, {1}, 0.0, settings_.origin_sigma});
+  }
+  const double gradient = settings_.ground_gradient_sigma * settings_.cell_size;
+  for (const Cell& next : {Cell{cell.first - 1, cell.second}, Cell{cell.first + 1, cell.second},
+                           Cell{cell.first, cell.second - 1}, Cell{cell.first, cell.second + 1}}) {
+    if (auto it = corners_.find(next); it != corners_.end())
+      residuals_.push_back({{it->second.state, state}, {-1, 1}, 0.0, gradient});
+  }
+  corners_[cell] = {state, stamp};
+  return state;
 }
 
 // Height and bias interpolated linearly between their states at the sample's time.
-void HeightFusion::add_sample_residual(const Sample& sample) {
+HeightFusion::Linear HeightFusion::interpolated(const Sample& sample, const Chain& biases) const {
   Linear residual{{}, {}, sample.value, sample.sigma};
-  auto interpolate = [&](const std::deque<std::pair<double, long>>& entries) {
+  auto interpolate = [&](const Chain& entries) {
     const size_t i = before(entries, sample.stamp), j = std::min(i + 1, entries.size() - 1);
     const double span = entries[j].first - entries[i].first;
     const double weight = span > 0 ? std::clamp((sample.stamp - entries[i].first) / span, 0.0, 1.0) : 0.0;
@@ -140,7 +192,12 @@ void HeightFusion::add_sample_residual(const Sample& sample) {
     }
   };
   interpolate(nodes_);
-  interpolate(biases_);
+  interpolate(biases);
+  return residual;
+}
+
+void HeightFusion::add_barometer_residual(const Sample& sample) {
+  Linear residual = interpolated(sample, biases_);
   double estimate = 0;
   for (size_t i = 0; i < residual.states.size(); ++i) estimate += residual.coefficients[i] * states_.at(residual.states[i]);
   // 5 sigma of the sample and of the estimate: a height uncertain for want of changes (a
@@ -157,121 +214,165 @@ void HeightFusion::add_sample_residual(const Sample& sample) {
 
 void HeightFusion::slide() {
   const double cutoff = nodes_.back().first - settings_.window;
+  if (nodes_.size() <= 2 || nodes_[1].first > cutoff - kSlideEvery) return;
   std::vector<long> dropped;
   while (nodes_.size() > 2 && nodes_[1].first <= cutoff) {
     dropped.push_back(nodes_.front().second);
     nodes_.pop_front();
   }
-  while (biases_.size() > 2 && biases_[1].first <= nodes_.front().first) {
-    dropped.push_back(biases_.front().second);
-    biases_.pop_front();
+  for (Chain* biases : {&biases_, &gps_biases_}) {
+    while (biases->size() > 2 && (*biases)[1].first <= nodes_.front().first) {
+      dropped.push_back(biases->front().second);
+      biases->pop_front();
+    }
+  }
+  // Beyond max_corners the least recently seen leave, with their height and its standard
+  // deviation, down to nine tenths of the bound (one factorisation for many).
+  std::vector<std::map<Cell, Corner>::iterator> leaving;
+  if (static_cast<int>(corners_.size()) > settings_.max_corners) {
+    for (auto it = corners_.begin(); it != corners_.end(); ++it)
+      if (it->second.seen < nodes_.front().first) leaving.push_back(it);
+    std::sort(leaving.begin(), leaving.end(), [](const auto& a, const auto& b) { return a->second.seen < b->second.seen; });
+    leaving.resize(std::min(leaving.size(), corners_.size() - static_cast<size_t>(settings_.max_corners * 9 / 10)));
+  }
+  if (!leaving.empty()) {
+    std::vector<long> order;
+    for (const auto& [state, value] : states_) order.push_back(state);
+    Eigen::SparseMatrix<double> H;
+    Eigen::VectorXd g;
+    normal_equations(residuals_, order, H, g);
+    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(H);
+    for (const auto& it : leaving) {
+      const long state = it->second.state;
+      const long index = std::lower_bound(order.begin(), order.end(), state) - order.begin();
+      const double variance = solver.solve(Eigen::VectorXd::Unit(H.rows(), index))[index];
+      known_ground_[it->first] = {states_.at(state), std::sqrt(std::max(variance, 1e-8))};
+      dropped.push_back(state);
+      corners_.erase(it);
+    }
   }
   if (!dropped.empty()) marginalise(dropped);
 }
 
 void HeightFusion::normal_equations(const std::vector<Linear>& residuals, const std::vector<long>& order,
-                                    Eigen::MatrixXd& H, Eigen::VectorXd& g) const {
+                                    Eigen::SparseMatrix<double>& H, Eigen::VectorXd& g) const {
   const long n = static_cast<long>(order.size());
-  std::map<long, long> index;
-  for (long i = 0; i < n; ++i) index[order[i]] = i;
-  H = Eigen::MatrixXd::Zero(n, n);
+  std::unordered_map<long, long> index;
+  index.reserve(order.size());
+  for (long i = 0; i < n; ++i) index.emplace(order[i], i);
+  Eigen::VectorXd x(n);
+  for (long i = 0; i < n; ++i) x[i] = states_.at(order[i]);
+  std::vector<Eigen::Triplet<double>>& terms = terms_;
+  terms.clear();
   g = Eigen::VectorXd::Zero(n);
+  std::vector<long> at;
   for (const auto& residual : residuals) {
     // A residual touches a few states: accumulate only their entries.
     const size_t m = residual.states.size();
-    std::vector<long> at(m);
+    at.resize(m);
     double r = -residual.value;
     for (size_t i = 0; i < m; ++i) {
       at[i] = index.at(residual.states[i]);
-      r += residual.coefficients[i] * states_.at(residual.states[i]);
+      r += residual.coefficients[i] * x[at[i]];
     }
     r /= residual.sigma;
-    double weight = 1.0;  // the loss's derivative at r^2, as Ceres weighs the residual
+    double weight = 1.0;  // the Cauchy loss's derivative at r^2 (its weight in reweighted least squares)
     if (residual.cauchy > 0) weight = 1 / (1 + r * r / (residual.cauchy * residual.cauchy));
     for (size_t i = 0; i < m; ++i) {
       const double ji = residual.coefficients[i] / residual.sigma;
       g[at[i]] += weight * ji * r;
-      for (size_t j = 0; j < m; ++j) H(at[i], at[j]) += weight * ji * residual.coefficients[j] / residual.sigma;
+      for (size_t j = 0; j < m; ++j) terms.emplace_back(at[i], at[j], weight * ji * residual.coefficients[j] / residual.sigma);
     }
   }
+  const long k = static_cast<long>(prior_.states.size());
+  at.resize(k);
+  Eigen::VectorXd moved(k);
+  for (long i = 0; i < k; ++i) {
+    at[i] = index.at(prior_.states[i]);
+    moved[i] = x[at[i]] - prior_.at[i];
+  }
+  const Eigen::VectorXd prior_gradient = prior_.gradient + prior_.information * moved;
+  for (long i = 0; i < k; ++i) {
+    g[at[i]] += prior_gradient[i];
+    for (long j = 0; j < k; ++j) terms.emplace_back(at[i], at[j], prior_.information(i, j));
+  }
+  for (long i = 0; i < n; ++i) terms.emplace_back(i, i, 1e-9);  // a state nothing constrains stays put
+  H.resize(n, n);
+  H.setFromTriplets(terms.begin(), terms.end());
 }
 
 // The residuals touching the dropped states, linearised at the current estimate, become
 // one Gaussian prior on the states they share with the rest: H_kk - H_kd H_dd^-1 H_dk, the
-// Schur complement. The previous prior joins them, so there is only ever one (its rows on
-// long-lived states, the ground levels, would otherwise pile up).
+// Schur complement, with its gradient. The previous prior joins them, so there is only
+// ever one.
 void HeightFusion::marginalise(const std::vector<long>& dropped) {
   const std::set<long> gone(dropped.begin(), dropped.end());
   std::vector<Linear> touching, kept;
   for (auto& residual : residuals_) {
-    const bool touches = residual.prior || std::any_of(residual.states.begin(), residual.states.end(),
-                                                       [&](long s) { return gone.count(s); });
+    const bool touches = std::any_of(residual.states.begin(), residual.states.end(), [&](long s) { return gone.count(s); });
     (touches ? touching : kept).push_back(std::move(residual));
   }
   std::vector<long> order(dropped);  // dropped first, then the boundary
+  std::set<long> listed(dropped.begin(), dropped.end());
+  const auto list = [&](long s) {
+    if (listed.insert(s).second) order.push_back(s);
+  };
   for (const auto& residual : touching)
-    for (long s : residual.states)
-      if (std::find(order.begin(), order.end(), s) == order.end()) order.push_back(s);
+    for (long s : residual.states) list(s);
+  for (long s : prior_.states) list(s);
   const long n = static_cast<long>(order.size()), d = static_cast<long>(dropped.size()), k = n - d;
-  Eigen::MatrixXd H;
+  Eigen::SparseMatrix<double> sparse;
   Eigen::VectorXd g;
-  normal_equations(touching, order, H, g);
+  normal_equations(touching, order, sparse, g);
+  const Eigen::MatrixXd H(sparse);
   residuals_ = std::move(kept);
   for (long s : dropped) states_.erase(s);
-  if (k == 0) return;
-  const Eigen::MatrixXd Hdd = H.topLeftCorner(d, d) + 1e-9 * Eigen::MatrixXd::Identity(d, d);
-  const Eigen::LDLT<Eigen::MatrixXd> solver(Hdd);
+  const Eigen::LDLT<Eigen::MatrixXd> solver(H.topLeftCorner(d, d));
   const Eigen::MatrixXd Hkd = H.bottomLeftCorner(k, d);
-  const Eigen::MatrixXd prior = H.bottomRightCorner(k, k) - Hkd * solver.solve(Hkd.transpose());
-  const Eigen::VectorXd gradient = g.tail(k) - Hkd * solver.solve(g.head(d));
-  // 1/2 |L^T (x - x0) + L^-1 g|^2 with L L^T = prior: as k linear residuals of sigma 1.
-  const Eigen::LLT<Eigen::MatrixXd> cholesky(prior + 1e-9 * Eigen::MatrixXd::Identity(k, k));
-  const Eigen::MatrixXd Lt = cholesky.matrixU();
-  const Eigen::VectorXd offset = cholesky.matrixL().solve(gradient);
-  Eigen::VectorXd x0(k);
-  for (long i = 0; i < k; ++i) x0[i] = states_.at(order[d + i]);
-  const Eigen::VectorXd value = Lt * x0 - offset;
-  for (long i = 0; i < k; ++i) {
-    Linear row{{}, {}, value[i], 1.0, 0.0, true};
-    for (long j = i; j < k; ++j) {
-      if (Lt(i, j) == 0) continue;
-      row.states.push_back(order[d + j]);
-      row.coefficients.push_back(Lt(i, j));
-    }
-    if (!row.states.empty()) residuals_.push_back(std::move(row));
-  }
+  prior_.information = H.bottomRightCorner(k, k) - Hkd * solver.solve(Hkd.transpose());
+  prior_.gradient = g.tail(k) - Hkd * solver.solve(g.head(d));
+  prior_.states.assign(order.begin() + d, order.end());
+  prior_.at.resize(k);
+  for (long i = 0; i < k; ++i) prior_.at[i] = states_.at(prior_.states[i]);
 }
 
+// Gauss-Newton, the robust residuals reweighted at each step (iteratively reweighted least
+// squares with the Cauchy loss's weight): every residual is linear, so a few steps
+// converge. Written here rather than handed to Ceres: with the elevation map's corners in
+// the dense prior, Ceres's setup of the sparse normal equations at every solve cost 4.3 ms
+// per update (pose_estimation_bench, 116 corners) against the 1 ms target; a sparse
+// Cholesky of the same equations (Eigen, fill-reducing order) fills in only the corners.
 void HeightFusion::solve() {
-  ceres::Problem::Options problem_options;
-  ceres::Problem problem(problem_options);
-  for (const auto& residual : residuals_) {
-    std::vector<double*> blocks;
-    for (long s : residual.states) blocks.push_back(&states_.at(s));
-    ceres::LossFunction* loss = residual.cauchy > 0 ? new ceres::CauchyLoss(residual.cauchy) : nullptr;
-    problem.AddResidualBlock(new LinearCost(residual.coefficients, residual.value, residual.sigma), loss, blocks);
-  }
-  ceres::Solver::Options options;
-  options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-  options.max_num_iterations = 10;
-  options.num_threads = 1;
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
-  // The newest height's marginal standard deviation: the last diagonal entry of H^-1.
+  constexpr int kMaxSteps = 3;
+  constexpr double kConverged = 1e-4;  // m: the largest state change of a step
   std::vector<long> order;
   for (const auto& [state, value] : states_) order.push_back(state);
-  Eigen::MatrixXd H;
+  Eigen::SparseMatrix<double> H;
   Eigen::VectorXd g;
-  normal_equations(residuals_, order, H, g);
-  const long newest = std::find(order.begin(), order.end(), nodes_.back().second) - order.begin();
-  const Eigen::VectorXd unit = Eigen::VectorXd::Unit(static_cast<long>(order.size()), newest);
-  height_sigma_ = std::sqrt(std::max(0.0, H.ldlt().solve(unit)[newest]));
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
+  for (int step = 0; step < kMaxSteps; ++step) {
+    normal_equations(residuals_, order, H, g);
+    if (step == 0) solver.analyzePattern(H);
+    solver.factorize(H);
+    if (solver.info() != Eigen::Success) return;
+    const Eigen::VectorXd delta = solver.solve(-g);
+    for (size_t i = 0; i < order.size(); ++i) states_.at(order[i]) += delta[static_cast<long>(i)];
+    if (delta.cwiseAbs().maxCoeff() < kConverged) break;
+  }
+  // The newest height's marginal standard deviation: its diagonal entry of H^-1.
+  const long newest = std::lower_bound(order.begin(), order.end(), nodes_.back().second) - order.begin();
+  height_sigma_ = std::sqrt(std::max(0.0, solver.solve(Eigen::VectorXd::Unit(H.rows(), newest))[newest]));
 }
 
 double HeightFusion::height() const {
   return nodes_.empty() ? first_altitude_.value_or(0) : states_.at(nodes_.back().second);
 }
 double HeightFusion::bias() const { return biases_.empty() ? 0 : states_.at(biases_.back().second); }
+size_t HeightFusion::ground_cells() const {
+  size_t count = known_ground_.size();
+  for (const auto& [cell, corner] : corners_) count += known_ground_.count(cell) == 0;
+  return count;
+}
 size_t HeightFusion::nodes_in_window() const { return nodes_.size(); }
 
 }  // namespace scanbus::pose_estimation

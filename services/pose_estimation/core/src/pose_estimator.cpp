@@ -2,6 +2,7 @@
 
 #include <GeographicLib/LocalCartesian.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 #include "scanbus/atmosphere.hpp"
@@ -21,11 +22,8 @@ PoseEstimatorSettings pose_estimator_settings_from_config(const Config& section)
   s.laser_in_body = transforms::from_xyz_rpy({xyz[0], xyz[1], xyz[2]},
                                              Eigen::Vector3d(rpy[0], rpy[1], rpy[2]) * kDegree);
   s.max_wait = section.number("max_wait", s.max_wait, 0.0, 10.0);
-  const Config ground = section.section("ground");
-  s.ground_clearance = ground.flag("enabled", s.ground_clearance);
-  s.ground.inlier_distance = ground.number("inlier_distance", s.ground.inlier_distance, 1e-4, 10);
-  s.ground.min_inlier_share = ground.number("min_inlier_share", s.ground.min_inlier_share, 0.05, 1);
-  s.ground.max_slope = ground.number("max_slope", s.ground.max_slope / kDegree, 0.1, 60) * kDegree;
+  s.ground_clearance = section.section("ground").flag("enabled", s.ground_clearance);
+  s.gps_altitude = section.section("gps").flag("altitude", s.gps_altitude);
   const Config fusion = section.section("fusion");
   FusionSettings& f = s.fusion;
   f.window = fusion.number("window", f.window, 0.1, 600);
@@ -40,12 +38,30 @@ PoseEstimatorSettings pose_estimator_settings_from_config(const Config& section)
   f.gate_memory = fusion.number("gate_memory", f.gate_memory, 0, 600);
   f.height_walk = fusion.number("height_walk", f.height_walk, 1e-3, 100);
   f.solve_every = static_cast<int>(fusion.integer("solve_every", f.solve_every, 1, 1000));
+  f.gps_wander_time = fusion.number("gps_wander_time", f.gps_wander_time, 0.1, 36000);
+  f.cell_size = fusion.number("cell_size", f.cell_size, 0.05, 100);
+  f.min_cell_returns = static_cast<int>(fusion.integer("min_cell_returns", f.min_cell_returns, 1, 100000));
   f.clearance_sigma = fusion.number("clearance_sigma", f.clearance_sigma, 1e-5, 10);
   f.clearance_loss = fusion.number("clearance_loss", f.clearance_loss, 1e-6, 100);
-  f.level_gate = fusion.number("level_gate", f.level_gate, 1e-3, 100);
-  f.max_levels = static_cast<int>(fusion.integer("max_levels", f.max_levels, 1, 1000));
+  f.clearance_gate = fusion.number("clearance_gate", f.clearance_gate, 1e-3, 100);
+  f.ground_gradient_sigma = fusion.number("ground_gradient_sigma", f.ground_gradient_sigma, 1e-3, 1000);
+  f.max_corners = static_cast<int>(fusion.integer("max_corners", f.max_corners, 4, 100000));
+  f.origin_on_ground = fusion.flag("origin_on_ground", f.origin_on_ground);
+  f.origin_sigma = fusion.number("origin_sigma", f.origin_sigma, 1e-4, 100);
   return s;
 }
+
+namespace {
+
+std::optional<double> median_depth(std::vector<GroundReturn> returns) {
+  if (returns.empty()) return std::nullopt;
+  const auto median = returns.begin() + static_cast<long>(returns.size() / 2);
+  std::nth_element(returns.begin(), median, returns.end(),
+                   [](const GroundReturn& a, const GroundReturn& b) { return a.depth < b.depth; });
+  return median->depth;
+}
+
+}  // namespace
 
 struct PoseEstimator::Local {
   GeographicLib::LocalCartesian frame;
@@ -73,6 +89,7 @@ void PoseEstimator::add_fix(double stamp, double latitude, double longitude, dou
   position.translation() = Eigen::Vector3d(east, north, up);
   positions_.add(stamp, position);
   position_sigma_ = Eigen::Vector3d(horizontal_sigma, horizontal_sigma, vertical_sigma);
+  if (settings_.gps_altitude) fusion_.add_gps(stamp, up, vertical_sigma);
   newest_input_ = std::max(newest_input_, stamp);
 }
 
@@ -96,17 +113,17 @@ void PoseEstimator::add_scan(double stamp, double angle_min, double angle_increm
                              double range_max, const std::vector<float>& ranges) {
   if (!settings_.ground_clearance) return;
   if (previous_ && stamp <= previous_->first) return;  // its match is gone already
-  std::vector<Eigen::Vector2d> points;
+  std::vector<Eigen::Vector3d> points;
   points.reserve(ranges.size());
   for (size_t i = 0; i < ranges.size(); ++i) {
     const double range = ranges[i];
     if (!(range >= range_min && range <= range_max)) continue;  // NaN and inf fail too
     const double angle = angle_min + angle_increment * static_cast<double>(i);
-    points.emplace_back(range * std::cos(angle), range * std::sin(angle));
+    points.emplace_back(range * std::cos(angle), range * std::sin(angle), 0.0);
   }
-  grounds_[stamp] = fit_ground_line(points, settings_.ground);
+  scans_[stamp] = std::move(points);
   // Bounded without matches: a match never waits longer than max_wait.
-  grounds_.erase(grounds_.begin(), grounds_.lower_bound(stamp - settings_.max_wait - 1));
+  scans_.erase(scans_.begin(), scans_.lower_bound(stamp - settings_.max_wait - 1));
   newest_scan_ = std::max(newest_scan_, stamp);
   newest_input_ = std::max(newest_input_, stamp);
 }
@@ -135,17 +152,21 @@ EstimatedPose PoseEstimator::estimate(const Match& match) {
                            settings_.laser_in_body);
   }
   pose.height_change = change;
-  const auto ground = grounds_.find(match.stamp);
-  if (ground != grounds_.end() && ground->second && attitude)
-    pose.clearance = ground_clearance(*ground->second, *attitude, settings_.laser_in_body, settings_.ground.max_slope);
-  grounds_.erase(grounds_.begin(), grounds_.upper_bound(match.stamp));
-  const uint64_t rejected = fusion_.changes_rejected();
-  pose.position.z() = fusion_.add_node(match.stamp, change, pose.clearance);
-  pose.match_used = change.has_value() && fusion_.changes_rejected() == rejected;
   if (!positions_.empty()) {
     pose.position.head<2>() = positions_.at(match.stamp, INFINITY).translation().head<2>();
     pose.has_position = positions_.outside_by(match.stamp) == 0;
   }
+  // Without attitude and position the returns cannot be placed on the map.
+  std::vector<GroundReturn> ground;
+  const auto scan = scans_.find(match.stamp);
+  if (scan != scans_.end() && attitude && pose.has_position) {
+    ground = ground_returns(scan->second, *attitude, pose.position.head<2>(), settings_.laser_in_body);
+    pose.clearance = median_depth(ground);
+  }
+  scans_.erase(scans_.begin(), scans_.upper_bound(match.stamp));
+  const uint64_t rejected = fusion_.changes_rejected();
+  pose.position.z() = fusion_.add_node(match.stamp, change, ground);
+  pose.match_used = change.has_value() && fusion_.changes_rejected() == rejected;
   pose.position_sigma = position_sigma_;
   pose.position_sigma.z() = fusion_.height_sigma();
   if (attitude) previous_ = {match.stamp, *attitude};

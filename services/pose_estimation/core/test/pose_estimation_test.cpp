@@ -30,50 +30,69 @@ TEST(LaserHeight, DownwardLaserSeesTheGroundComeCloser) {
 namespace {
 
 struct Track {
-  std::vector<double> truth, baro, fused, integrated;
+  std::vector<double> truth, baro, fused, integrated, sigma;
   uint64_t rejected = 0, baro_outliers = 0;
 };
 
-// A flight at 30 Hz with a height wave: the barometer at 10 Hz with 0.3 m noise and a bias
-// wandering 0.02 m/sqrt(s), scan-matcher changes with 3 mm noise and a 0.3 m jump now and
-// then (failed matches). Over a block: back and forth over a 1 m block (a third of each
-// 24 s pass), the jumps where its edges pass, and each scan's clearance above floor or
-// block with 5 mm noise.
+// A flight at 30 Hz with a height wave, flying back and forth along x at 0.5 m/s (24 s a
+// pass): the barometer at 10 Hz with 0.3 m noise and a bias wandering 0.02 m/sqrt(s),
+// scan-matcher changes with 3 mm noise and a 0.3 m jump now and then (failed matches).
+// With ground: 61 returns across the flight, 3 m wide, 5 mm noise, on a ground of
+// `slope` (dz/dx) with a 1 m high block from x = 8.2 m to the turn at 12 m when
+// `over_block`; the matcher's changes then see the ground rise (its edges are the jumps).
+// With GPS: altitudes at 10 Hz with `gps_sigma` reported, 2 cm jitter and a wander of
+// that sigma changing over 30 s.
 struct FlightPlan {
   int scans = 1800;
   unsigned seed = 3;
   bool over_block = false;
-  double baro_jump = 0;  // m added to the barometer from 20 to 25 s (a gust, a door, a fault)
+  double baro_jump = 0;  // m added to the barometer from 50 to 55 s (a gust, a door, a fault)
+  bool ground = false;
+  double slope = 0;
+  double gps_sigma = 0;  // none when 0
 };
 
+double x_at(double t) {
+  const double phase = std::fmod(t, 48.0);
+  return phase < 24 ? 0.5 * phase : 0.5 * (48 - phase);
+}
+
+double ground_at(const FlightPlan& plan, double x) { return plan.slope * x + (plan.over_block && x >= 8.2 ? 1.0 : 0.0); }
+
 Track fly(const FusionSettings& settings, const FlightPlan& plan = {}) {
-  std::mt19937 random(plan.seed);
+  std::mt19937 random(plan.seed), gps_random(plan.seed + 1000);  // GPS or not, the same other noise
   std::normal_distribution<double> gauss(0, 1);
   HeightFusion fusion(settings);
   Track track;
-  double drift = 0, previous = 0, integrated = 0;
-  bool was_over = false;
+  double drift = 0, previous = 0, integrated = 0, wander = 0, previous_ground = 0;
+  const bool ground = plan.ground || plan.over_block;
   for (int k = 0; k < plan.scans; ++k) {
-    const double t = k / 30.0, h = 3 + 0.4 * std::sin(t / 3);
-    const bool over = plan.over_block && std::fmod(t, 24.0) < 8.0;
+    const double t = k / 30.0, h = 3 + 0.4 * std::sin(t / 3), x = x_at(t);
     if (k % 3 == 0) {
       drift += 0.02 * std::sqrt(0.1) * gauss(random);
-      const double baro = h + drift + 0.3 * gauss(random) + (t >= 20 && t < 25 ? plan.baro_jump : 0.0);
+      const double baro = h + drift + 0.3 * gauss(random) + (t >= 50 && t < 55 ? plan.baro_jump : 0.0);
       fusion.add_barometer(t, baro);
       track.baro.push_back(baro - h);
       if (k == 0) integrated = baro;
+      if (plan.gps_sigma > 0) {
+        wander += -wander * 0.1 / 30 + plan.gps_sigma * std::sqrt(2 * 0.1 / 30) * gauss(gps_random);
+        fusion.add_gps(t, h + wander + 0.02 * gauss(gps_random), plan.gps_sigma);
+      }
     }
+    const double under = ground_at(plan, x);
     std::optional<double> change;
     if (k > 0) {
-      const bool jumped = plan.over_block ? over != was_over : k % 350 == 100;
-      change = h - previous + 0.003 * gauss(random) + (jumped ? 0.3 : 0.0);
+      const bool jumped = !plan.over_block && k % 350 == 100;
+      change = h - previous - (ground ? under - previous_ground : 0.0) + 0.003 * gauss(random) + (jumped ? 0.3 : 0.0);
       integrated += *change;
     }
     previous = h;
-    was_over = over;
-    std::optional<double> clearance;
-    if (plan.over_block) clearance = h - (over ? 1.0 : 0.0) + 0.005 * gauss(random);
-    track.fused.push_back(fusion.add_node(t, change, clearance) - h);
+    previous_ground = under;
+    std::vector<GroundReturn> returns;
+    if (ground)
+      for (int i = 0; i <= 60; ++i) returns.push_back({{x, -1.5 + 0.05 * i}, h - under + 0.005 * gauss(random)});
+    track.fused.push_back(fusion.add_node(t, change, returns) - h);
+    track.sigma.push_back(fusion.height_sigma());
     track.integrated.push_back(integrated - h);
   }
   track.rejected = fusion.changes_rejected();
@@ -100,12 +119,12 @@ TEST(HeightFusion, BeatsBarometerAndIntegrationAndIgnoresFailedMatches) {
 
 TEST(HeightFusion, ABarometerJumpIsCountedAndBarelyMovesTheHeight) {
   for (bool over_block : {false, true}) {
-    const Track steady = fly({}, {1800, 3, over_block, 0.0});
-    const Track jumped = fly({}, {1800, 3, over_block, 10.0});
-    double worst = 0;  // the fused height's change from the jump, 20 to 30 s
-    for (size_t k = 600; k < 900; ++k) worst = std::max(worst, std::abs(jumped.fused[k] - steady.fused[k]));
+    const Track steady = fly({}, {2400, 3, over_block, 0.0});
+    const Track jumped = fly({}, {2400, 3, over_block, 10.0});
+    double worst = 0;  // the fused height's change from the jump, 50 to 60 s
+    for (size_t k = 1500; k < 1800; ++k) worst = std::max(worst, std::abs(jumped.fused[k] - steady.fused[k]));
     std::printf("%s: a 10 m barometer jump for 5 s moved the fused height by at most %.3f m; %lu outliers\n",
-                over_block ? "with clearances" : "changes only", worst, static_cast<unsigned long>(jumped.baro_outliers));
+                over_block ? "with ground" : "changes only", worst, static_cast<unsigned long>(jumped.baro_outliers));
     EXPECT_LT(worst, 0.1);
     EXPECT_EQ(jumped.baro_outliers, 50u);  // 5 s at 10 Hz
     EXPECT_EQ(steady.baro_outliers, 0u);
@@ -212,88 +231,59 @@ TEST(PoseEstimator, ScanMatcherChangesCarryTheHeightBetweenNoisyBarometerSamples
   EXPECT_LT(estimator.fusion().height_sigma(), 0.15);
 }
 
-namespace {
-
-// A level laser 3 m over flat ground, looking down (x down, scan plane across): 361 rays over
-// 90 degrees with 2 cm noise; rays in [box_from, box_to) hit a box top `box` m high.
-std::vector<Eigen::Vector2d> ground_scan(double height, double box, int box_from, int box_to, unsigned seed) {
-  std::mt19937 random(seed);
-  std::normal_distribution<double> noise(0, 0.02);
-  std::vector<Eigen::Vector2d> points;
-  for (int i = 0; i <= 360; ++i) {
-    const double angle = (i - 180) * 0.25 * M_PI / 180;
-    const double to = (i >= box_from && i < box_to) ? height - box : height;
-    const double range = to / std::cos(angle) + noise(random);
-    points.emplace_back(range * std::cos(angle), range * std::sin(angle));
-  }
-  return points;
-}
-
-}  // namespace
-
-TEST(GroundLine, FindsTheGroundPastABoxAndNothingInClutter) {
-  const auto line = fit_ground_line(ground_scan(3.0, 0.3, 150, 200, 1));
-  ASSERT_TRUE(line.has_value());
-  EXPECT_NEAR(line->distance, 3.0, 0.005);
-  EXPECT_NEAR(line->normal.x(), 1.0, 1e-3);  // straight down the laser's x
-  EXPECT_NEAR(static_cast<double>(line->inliers), 311, 8);  // the box's 50 rays are left out
-  // Points on a circle around the laser: no line holds half of them.
-  std::vector<Eigen::Vector2d> circle;
-  for (int i = 0; i < 360; ++i) circle.emplace_back(2 * std::cos(i * M_PI / 180), 2 * std::sin(i * M_PI / 180));
-  EXPECT_FALSE(fit_ground_line(circle).has_value());
-  EXPECT_FALSE(fit_ground_line({{1, 0}, {1, 1}}).has_value());  // too few points
-}
-
-TEST(GroundLine, ClearanceIsTheBodysHeightWhateverTheAttitude) {
-  Eigen::Isometry3d mount = Eigen::Isometry3d::Identity();
-  mount.translate(Eigen::Vector3d(0, 0, -0.1));
-  mount.rotate(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()));
-  // The body 3 m up; its laser 0.1 m lower. Level, the laser sees the ground 2.9 m away.
-  GroundLine level{Eigen::Vector2d::UnitX(), 2.9, 300};
-  EXPECT_NEAR(*ground_clearance(level, Eigen::Quaterniond::Identity(), mount, 0.1), 3.0, 1e-9);
-  // Rolled 10 degrees (within the scan plane): the line turns in the laser's frame, its
-  // distance stays that of the laser, now 3 - 0.1 cos(10 deg) up.
-  const double roll = 10 * M_PI / 180;
-  const Eigen::Quaterniond rolled(Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()));
-  const double laser_up = 3 - 0.1 * std::cos(roll);
-  const GroundLine turned{Eigen::Vector2d(std::cos(roll), -std::sin(roll)), laser_up, 300};
-  EXPECT_NEAR(*ground_clearance(turned, rolled, mount, 0.1), 3.0, 1e-9);
-  // Pitched 5 degrees (the scan plane leans): the line lies further, at laser_up / cos.
-  const double pitch = 5 * M_PI / 180;
-  const Eigen::Quaterniond pitched(Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()));
-  const double laser_height = 3 - 0.1 * std::cos(pitch);
-  const GroundLine leaning{Eigen::Vector2d::UnitX(), laser_height / std::cos(pitch), 300};
-  EXPECT_NEAR(*ground_clearance(leaning, pitched, mount, 0.1), 3.0, 1e-9);
-  // Level, a line leaning 10 degrees in the scan plane is no ground (a block's edge, a wall).
-  const GroundLine slanted{Eigen::Vector2d(std::cos(0.1745), std::sin(0.1745)), 2.9, 300};
-  EXPECT_FALSE(ground_clearance(slanted, Eigen::Quaterniond::Identity(), mount, 5 * M_PI / 180).has_value());
-  EXPECT_TRUE(ground_clearance(slanted, Eigen::Quaterniond::Identity(), mount, 15 * M_PI / 180).has_value());
-}
-
-TEST(HeightFusion, GroundLevelsSeenAgainHoldTheHeightOverSteps) {
+TEST(HeightFusion, GroundSeenAgainHoldsTheHeightOverABlock) {
   for (unsigned seed : {1u, 2u, 3u}) {
     const Track track = fly({}, {5400, seed, true});
     const double baro = rms(track.baro), integrated = rms(track.integrated), fused = rms(track.fused);
-    double worst = 0;  // after the first 10 s, when only the barometer knows the level
-    for (size_t k = 300; k < track.fused.size(); ++k) worst = std::max(worst, std::abs(track.fused[k]));
+    double worst = 0;  // after the first pass, when only the barometer knows the ground
+    for (size_t k = 720; k < track.fused.size(); ++k) worst = std::max(worst, std::abs(track.fused[k]));
     std::printf("seed %u: barometer %.3f m, integrated %.3f m, fused %.3f m, worst %.3f m\n", seed, baro, integrated,
                 fused, worst);
     EXPECT_LT(fused, 0.5 * std::min(baro, integrated));
-    EXPECT_LT(worst, 0.2);  // a block's edge never carries the height off by its 1 m
-    EXPECT_EQ(track.rejected, 15u);  // the 15 edges' jumps
+    EXPECT_LT(worst, 0.35);  // a block's edge never carries the height off by its 1 m
+    EXPECT_EQ(track.rejected, 8u);  // the matcher's jumps at the 8 edges the flight crosses
   }
 }
 
-TEST(HeightFusion, FloorAndBlockAreTwoLevels) {
-  HeightFusion fusion;
-  for (int k = 0; k < 600; ++k) {
-    const double t = k / 30.0;
-    if (k % 3 == 0) fusion.add_barometer(t, 3.0);
-    const bool over = (k / 60) % 2 == 1;
-    fusion.add_node(t, k ? std::optional<double>(0.0) : std::nullopt, over ? 2.0 : 3.0);
+TEST(HeightFusion, ASlopeUnderTheFlightIsNotTheMavSinking) {
+  // 3 degrees up along the flight, 3 minutes back and forth: the laser alone cannot tell
+  // the ground rising from the MAV sinking; the origin's ground and the ground seen again on
+  // every pass can.
+  size_t within_sigma = 0, scored = 0;
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const Track track = fly({}, {5400, seed, false, 0.0, true, 0.052});
+    const double baro = rms(track.baro), integrated = rms(track.integrated), fused = rms(track.fused);
+    std::printf("seed %u: barometer %.3f m, integrated %.3f m, fused %.3f m\n", seed, baro, integrated, fused);
+    EXPECT_LT(fused, 0.15);  // the barometer alone knows the slope (issue 19's standalone target)
+    EXPECT_LT(fused, 0.5 * std::min(baro, integrated));
+    for (size_t k = 30; k < track.fused.size(); ++k) {  // after the first solves
+      within_sigma += std::abs(track.fused[k]) <= track.sigma[k];
+      ++scored;
+    }
   }
-  EXPECT_EQ(fusion.ground_levels(), 2u);
-  EXPECT_NEAR(fusion.height(), 3.0, 0.05);
+  // The height's printed sigma holds about two thirds of the errors (they are correlated
+  // over a flight: three flights are a loose check).
+  const double share = static_cast<double>(within_sigma) / static_cast<double>(scored);
+  std::printf("errors within 1 sigma: %.1f %%\n", 100 * share);
+  EXPECT_GT(share, 0.5);
+  EXPECT_LT(share, 0.9);
+}
+
+TEST(HeightFusion, GpsAltitudeCountsAsMuchAsItsFixSays) {
+  // Over a slope, without the origin's ground: an RTK fix (4 cm) carries the height, a
+  // standalone one (4 m) does no harm.
+  FusionSettings settings;
+  settings.origin_on_ground = false;
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const double none = rms(fly(settings, {5400, seed, false, 0.0, true, 0.052}).fused);
+    const double rtk = rms(fly(settings, {5400, seed, false, 0.0, true, 0.052, 0.04}).fused);
+    const double standalone = rms(fly(settings, {5400, seed, false, 0.0, true, 0.052, 4.0}).fused);
+    std::printf("seed %u: fused without GPS %.3f m, with RTK %.3f m, with standalone %.3f m\n", seed, none, rtk,
+                standalone);
+    EXPECT_LT(rtk, 0.04);
+    EXPECT_LT(rtk, 0.5 * none);
+    EXPECT_LT(standalone, none + 0.01);
+  }
 }
 
 TEST(PoseEstimator, OnceScansComeAMatchWaitsForItsOwn) {

@@ -72,7 +72,7 @@ struct HeightSample {
 struct FlightEvaluation {
   size_t scans = 0, poses = 0, matches_failed = 0, changes_rejected = 0;
   size_t clearances = 0;     // poses whose scan showed a ground line
-  size_t ground_levels = 0;  // the fusion's at the end (floor, box tops)
+  size_t ground_cells = 0;  // corners of the fusion's elevation map at the end
   double height_rmse[3] = {0, 0, 0};  // m against the truth, by HeightSource
   double fusion_ms_per_update = 0;    // wall time of the pose estimator per scan
   bool has_boxes = false;             // the log names its boxes (scenario IV)

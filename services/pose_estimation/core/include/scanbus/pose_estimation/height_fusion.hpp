@@ -1,31 +1,39 @@
-// The MAV's height by least squares over a sliding window (Ceres), after section 3.6 of
-// the MAV paper: the paper starts from the barometer and adds the scan matcher's height
-// changes; here every barometer sample (with a slowly wandering bias) and every
-// scan-matcher change enter one problem, the changes under a robust loss so a failed match
-// is outvoted instead of integrated.
+// The MAV's height and the ground under it by least squares over a sliding window,
+// after section 3.6 of the MAV paper: the paper starts from the barometer and adds the scan
+// matcher's height changes; here every barometer sample, every GPS altitude (each with a
+// slowly wandering bias), every scan-matcher change and the ground each scan sees enter one
+// problem, the laser's terms under robust losses so a failed match or a box is outvoted.
 //
-// Those two alone cannot hold the height: the barometer's bias and the integrated changes
-// both wander, and nothing tells one wander from the other, so their best combination
-// still wanders (for the simulator's noise by about 0.013 m/sqrt(s), 0.12 m RMS over a
-// 3-minute flight; docs/performance.md). What pins the height down is the ground itself: each scan's ground
-// clearance (laser_height.hpp) is the height above a ground level, a state shared by every
-// scan that sees ground at that height (the floor, a block's top), so over ground seen before
-// the height cannot drift. A level's absolute height, like the MAV's, comes from the
-// barometer. States leaving the window are marginalised (Schur
-// complement) into a prior on those that stay, so nothing the window forgot is either
-// lost or counted twice. GPS altitude stays out: its error wanders over minutes, and taken
-// as independent fixes it outweighed the barometer (scenario I: 0.71 m RMSE with it,
-// 0.18 m without; docs/performance.md).
+// The laser does not measure height: it measures the height above the ground under the
+// scan, and over a slope or a mound the ground moves too. So the ground is estimated with
+// the height: a 2.5D elevation map of corners `cell_size` apart, heights interpolated
+// bilinearly between them (no assumption of level or piecewise flat ground). Each scan's
+// returns in a cell give `height - ground(xy) = depth`; the scan matcher's change is the
+// change of that depth, so it carries the height only where the scans saw no ground.
+// Ground seen again on a later pass ties the heights at both times; absolute
+// height comes from the barometer and GPS (their biases as states, GPS weighted by the
+// fix's own sigma) and from the map origin, whose ground is at the origin's altitude.
+//
+// States leaving the window are marginalised (Schur complement) into a prior on those that
+// stay, the corners among them: ground seen minutes ago still ties the height. Beyond
+// max_corners, the least recently seen corners are marginalised too and kept in a map of
+// heights and standard deviations; seen again, such a corner restarts from that height with
+// that sigma. That reuses what the prior already holds of it (an approximation, as in
+// map-based localisation), the price of a problem that does not grow with the area flown.
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 #include <deque>
 #include <map>
+#include <utility>
 #include <memory>
 #include <optional>
 #include <vector>
 #include <cstdint>
+
+#include "scanbus/pose_estimation/laser_height.hpp"
 
 namespace scanbus::pose_estimation {
 
@@ -40,6 +48,8 @@ struct FusionSettings {
   double bias_random_walk = 0.02;   // m/sqrt(s): how fast the barometer's bias wanders
   double bias_spacing = 1.0;        // s between bias states (linear in between)
   double initial_bias_sigma = 0.05; // m: the barometer is referenced on the ground at the start
+  double gps_wander_time = 30.0;    // s: a fix's altitude is off by the sigma the receiver
+                                    // reports, an error correlated over this time
   double change_sigma = 0.003;      // m, one scan-matcher height change (measured on the
                                     // simulated flights: 2-3 mm between scans at 30 Hz)
   double change_loss = 0.005;       // m: Cauchy scale; far larger disagreements count little
@@ -50,10 +60,22 @@ struct FusionSettings {
   double height_walk = 0.2;         // m/sqrt(s): the height's random walk between nodes without a change
   double gate_memory = 0.5;         // s: after this long without an accepted change, any is accepted
   int solve_every = 3;              // nodes between solves (the newest node is propagated in between)
-  double clearance_sigma = 0.01;    // m, one ground clearance (line fit, attitude, rough ground)
-  double clearance_loss = 0.03;     // m: Cauchy scale; a wrong line or level counts little
-  double level_gate = 0.25;         // m: ground further than this from every known level is a new one
-  int max_levels = 16;              // the least recently seen beyond these is marginalised
+  double cell_size = 1.0;           // m between the elevation map's corners
+  int min_cell_returns = 5;         // returns of one scan in a cell before it says where the ground is
+  double clearance_sigma = 0.02;    // m, the depth of one cell's ground under one scan (the median
+                                    // return: laser noise, attitude, relief finer than a cell)
+  double clearance_loss = 0.05;     // m: Cauchy scale; a box or a stone in a cell counts little
+  double clearance_gate = 0.15;     // m: a cell's ground this far (or 5 sigma of the height) from
+                                    // where the map puts it is a step or an edge inside the cell,
+                                    // which corners cannot follow: left out
+  double ground_gradient_sigma = 1.0;  // m per m between neighbouring corners: a weak tie that only
+                                       // decides what the returns leave open
+  int max_corners = 200;            // kept in the problem (the prior is dense over them: a solve's
+                                    // cost grows with their cube; 200 at 1 m: 0.2 ha); beyond, the least recently seen
+                                    // leave with their height and sigma, and a corner seen again
+                                    // restarts from them
+  bool origin_on_ground = true;     // the ground at the map origin is at the origin's altitude
+  double origin_sigma = 0.05;       // m: how well (rough ground, where the origin was taken)
 };
 
 class HeightFusion {
@@ -65,12 +87,15 @@ class HeightFusion {
 
   // Altitude above the map origin (m). Samples wait until nodes on both sides exist.
   void add_barometer(double stamp, double altitude);
+  // A GPS altitude above the map origin (m) with the vertical sigma its fix reports (a fix
+  // without a positive sigma cannot be weighed and is left out).
+  void add_gps(double stamp, double altitude, double vertical_sigma);
 
   // A node at `stamp` (after the previous one) with the scan matcher's height change since
-  // the previous node, or none (failed match, no scan matcher), and the height above the
-  // ground the scan saw, or none. Returns the height now estimated for this node. The first
-  // node starts at the first barometer altitude.
-  double add_node(double stamp, std::optional<double> change, std::optional<double> clearance = std::nullopt);
+  // the previous node, or none (failed match, no scan matcher), and the scan's returns on
+  // the ground. Returns the height now estimated for this node. The first node starts at the
+  // first barometer altitude.
+  double add_node(double stamp, std::optional<double> change, const std::vector<GroundReturn>& ground = {});
 
   // Barometer altitudes more than 5 sigma from the estimate when they entered (left out
   // unless the barometer has been off for baro_gate_time).
@@ -78,48 +103,72 @@ class HeightFusion {
   double height() const;                        // of the newest node
   bool has_barometer() const { return first_altitude_.has_value(); }
   double bias() const;                          // the barometer's, at the newest node
-  size_t ground_levels() const { return levels_.size(); }
+  size_t ground_cells() const;                  // corners of the elevation map estimated so far
   double height_sigma() const { return height_sigma_; }  // m, of the newest node at the last solve
   size_t nodes_in_window() const;
   uint64_t changes_rejected() const { return changes_rejected_; }
+  uint64_t cells_gated() const { return cells_gated_; }  // a scan's cells left out (clearance_gate)
 
  private:
   // Every residual here is linear in the states: (sum coefficient * state - value) / sigma,
   // under a Cauchy loss of scale `cauchy` (in sigmas) when that is not 0: height changes
-  // (failed matches) and clearances (wrong lines).
+  // (failed matches) and clearances (boxes, edges).
   struct Linear {
     std::vector<long> states;
     std::vector<double> coefficients;
     double value, sigma;
     double cauchy = 0;
-    bool prior = false;  // a row of the marginalisation prior
   };
-  struct Sample {  // a barometer altitude
+  // What marginalised states left on those that stay: the cost's gradient and Hessian there
+  // at the estimate `at` (the quadratic 1/2 dx' information dx + gradient' dx).
+  struct Prior {
+    std::vector<long> states;
+    Eigen::MatrixXd information;
+    Eigen::VectorXd gradient, at;
+  };
+  struct Sample {  // a barometer or GPS altitude
     double stamp, value, sigma;
   };
+  using Chain = std::deque<std::pair<double, long>>;  // stamp, state: heights or biases, in time
+  using Cell = std::pair<long, long>;                 // a corner's index along x and y
+  struct Corner {
+    long state;
+    double seen;  // stamp of the newest scan that saw it
+  };
+  struct KnownGround {
+    double height, sigma;
+  };
   long new_state(double initial);
-  void add_sample_residual(const Sample& sample);
-  void add_clearance(double stamp, long height, double clearance);
+  void extend(Chain& biases, double stamp, double initial_sigma, double step_sigma);
+  Linear interpolated(const Sample& sample, const Chain& biases) const;
+  void add_barometer_residual(const Sample& sample);
+  bool add_ground(double stamp, long height, const std::vector<GroundReturn>& ground);
+  long corner(const Cell& cell, double stamp, double initial);
   void solve();
   void slide();
   void marginalise(const std::vector<long>& dropped);
-  // Gauss-Newton normal equations (H, g) of `residuals` over the states in `order`, at the
-  // current estimate, robust residuals with the weight their loss gives them there.
-  void normal_equations(const std::vector<Linear>& residuals, const std::vector<long>& order, Eigen::MatrixXd& H,
-                        Eigen::VectorXd& g) const;
+  // Gauss-Newton normal equations (H, g) of `residuals` and the prior over the states in
+  // `order` (all the prior's among them), at the current estimate, robust residuals with the
+  // weight their loss gives them there.
+  void normal_equations(const std::vector<Linear>& residuals, const std::vector<long>& order,
+                        Eigen::SparseMatrix<double>& H, Eigen::VectorXd& g) const;
 
   FusionSettings settings_;
   std::map<long, double> states_;               // stable addresses for Ceres
   long next_state_ = 0;
-  std::deque<std::pair<double, long>> nodes_;   // stamp, height state
-  std::deque<std::pair<double, long>> biases_;  // stamp, bias state
-  struct Level {
-    long state;
-    double seen;  // stamp of its newest clearance
-  };
-  std::vector<Level> levels_;
+  Chain nodes_;                                 // heights
+  Chain biases_;                                // the barometer's
+  Chain gps_biases_;                            // the GPS altitude's
+  std::map<Cell, Corner> corners_;              // the elevation map's corners in the problem
+  std::map<Cell, KnownGround> known_ground_;    // corners marginalised, as last estimated
+  bool previous_saw_ground_ = false;
   std::vector<Linear> residuals_;
-  std::vector<Sample> pending_;                 // newer than the newest node
+  Prior prior_;
+  mutable std::vector<Eigen::Triplet<double>> terms_;  // normal_equations' buffer, kept: its size
+                                                       // would otherwise be mapped anew each time
+  std::vector<Sample> pending_, pending_gps_;   // newer than the newest node
+  std::optional<double> gps_sigma_;             // the newest fix's
+  uint64_t cells_gated_ = 0;
   std::optional<double> first_altitude_;
   uint64_t barometer_outliers_ = 0;
   std::optional<double> barometer_off_since_;

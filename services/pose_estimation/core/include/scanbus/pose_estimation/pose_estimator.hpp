@@ -1,5 +1,6 @@
 // The MAV's pose from its sources, one pose per scan-matcher result: height from the
-// HeightFusion (barometer, scan-matcher height changes, the scans' ground clearance), horizontal position
+// HeightFusion (barometer, GPS altitude, scan-matcher height changes, the ground the scans
+// see), horizontal position
 // from GPS in a local east-north-up frame, attitude from the IMU. A result waits until the
 // IMU and GPS have samples on both sides of its stamp, or until `max_wait` of newer data
 // shows they will not come.
@@ -26,8 +27,8 @@ struct PoseEstimatorSettings {
   Eigen::Isometry3d laser_in_body = Eigen::Isometry3d::Identity();
   Eigen::Vector3d origin{0, 0, 0};  // latitude, longitude (deg), altitude (m) of the map origin
   double max_wait = 0.5;            // s of newer data after which a result goes ahead without IMU/GPS
-  bool ground_clearance = true;     // the scans' ground lines enter the fusion
-  GroundLineSettings ground;
+  bool ground_clearance = true;     // the scans' ground returns enter the fusion
+  bool gps_altitude = true;         // GPS altitudes enter the fusion, weighted by the fix's sigma
 };
 
 // Section `pose_estimation` of config/services/pose_estimation.yaml (angles in degrees
@@ -42,7 +43,7 @@ struct EstimatedPose {
   bool has_attitude = false, has_position = false;  // false: held from the nearest sample
   bool match_used = false;                           // the scan matcher's height change entered
   std::optional<double> height_change;               // m, from the match (before the fusion's gate)
-  std::optional<double> clearance;                   // m above the ground line its scan showed
+  std::optional<double> clearance;                   // m above the ground its scan saw (the median return)
 };
 
 class PoseEstimator {
@@ -58,8 +59,8 @@ class PoseEstimator {
   // match failed.
   void add_match(double stamp, std::optional<Eigen::Vector2d> increment);
 
-  // A scan, for its ground line (the clearance of the match with the same stamp). Ranges
-  // outside [range_min, range_max] are no returns.
+  // A scan, for the ground it sees (under the match with the same stamp). Ranges outside
+  // [range_min, range_max] are no returns.
   void add_scan(double stamp, double angle_min, double angle_increment, double range_min, double range_max,
                 const std::vector<float>& ranges);
 
@@ -86,7 +87,8 @@ class PoseEstimator {
   transforms::TransformSeries attitudes_{30.0}, positions_{30.0};
   Eigen::Vector3d position_sigma_ = Eigen::Vector3d::Zero();
   std::deque<Match> matches_;
-  std::map<double, std::optional<GroundLine>> grounds_;  // by scan stamp, until its match is estimated
+  std::map<double, std::vector<Eigen::Vector3d>> scans_;  // points in the laser's frame by stamp, until
+                                                         // the match is estimated
   double newest_scan_ = -INFINITY;  // none yet: matches do not wait for scans
   double newest_input_ = -INFINITY;
   std::optional<std::pair<double, Eigen::Quaterniond>> previous_;  // stamp and attitude of the last result
