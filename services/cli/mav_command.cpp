@@ -293,7 +293,7 @@ void add_eval_command(CLI::App& app, int& exit_code) {
       ->check(CLI::ExistingDirectory);
   flights->add_flag("--json", mav.json, "One JSON array, no progress");
   flights->add_flag("--no-ground", mav.no_ground,
-                    "Fuse the barometer and the scan matcher's changes only, without the scans' ground clearance");
+                    "Fuse the barometer, GPS altitude and the scan matcher's changes only, without the ground the scans see");
   on_run(*flights, exit_code, [] { return run_eval_mav(mav); });
 
   static EvalBoxesOptions boxes;

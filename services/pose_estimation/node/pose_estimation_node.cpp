@@ -181,6 +181,8 @@ class PoseEstimation : public Service {
       if (!pose.has_attitude || !pose.has_position) ++health_.counter("poses_held");  // IMU or GPS missing
       if (pose.height_change && !pose.match_used) ++health_.counter("changes_rejected");
       if (pose.clearance) ++health_.counter("clearances");  // poses whose scan showed the ground
+      // Cells left out as steps or edges (FusionSettings::clearance_gate): a count, not a fault.
+      health_.counter("ground_cells_gated") = estimator_.fusion().cells_gated();
     }
   }
 
