@@ -112,7 +112,8 @@ bool HeightFusion::add_ground(double stamp, long height, const std::vector<Groun
   const double size = settings_.cell_size;
   std::map<Cell, std::vector<GroundReturn>> cells;
   for (const auto& ret : ground) {
-    if (!ret.xy.allFinite() || !std::isfinite(ret.depth)) continue;
+    constexpr double kFarthest = 1e9;  // m: beyond, a cell index would not fit (a fix gone wild)
+    if (!(ret.xy.cwiseAbs().maxCoeff() < kFarthest) || !std::isfinite(ret.depth)) continue;
     cells[{static_cast<long>(std::floor(ret.xy.x() / size)), static_cast<long>(std::floor(ret.xy.y() / size))}]
         .push_back(ret);
   }

@@ -245,6 +245,19 @@ TEST(HeightFusion, GroundSeenAgainHoldsTheHeightOverABlock) {
   }
 }
 
+TEST(HeightFusion, ReturnsThatCannotBePlacedAreLeftOut) {
+  HeightFusion fusion;
+  fusion.add_barometer(0, 3.0);
+  std::vector<GroundReturn> wild;
+  for (int i = 0; i < 20; ++i) {
+    wild.push_back({{NAN, 0}, 3.0});
+    wild.push_back({{1e300, -1e300}, 3.0});  // a fix gone wild: no cell index fits
+    wild.push_back({{0.1, 0.1}, INFINITY});
+  }
+  EXPECT_NEAR(fusion.add_node(0, std::nullopt, wild), 3.0, 1e-9);
+  EXPECT_EQ(fusion.ground_cells(), 0u);
+}
+
 TEST(HeightFusion, ASlopeUnderTheFlightIsNotTheMavSinking) {
   // 3 degrees up along the flight, 3 minutes back and forth: the laser alone cannot tell
   // the ground rising from the MAV sinking; the origin's ground and the ground seen again on
