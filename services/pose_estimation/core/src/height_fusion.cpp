@@ -120,9 +120,7 @@ bool HeightFusion::add_ground(double stamp, long height, const std::vector<Groun
   bool entered = false;
   for (auto& [cell, returns] : cells) {
     if (static_cast<int>(returns.size()) < settings_.min_cell_returns) continue;
-    const auto median = returns.begin() + static_cast<long>(returns.size() / 2);
-    std::nth_element(returns.begin(), median, returns.end(),
-                     [](const GroundReturn& a, const GroundReturn& b) { return a.depth < b.depth; });
+    const auto median = median_return(std::move(returns));
     const double fx = median->xy.x() / size - static_cast<double>(cell.first);
     const double fy = median->xy.y() / size - static_cast<double>(cell.second);
     Linear residual{{height}, {1.0}, median->depth, settings_.clearance_sigma,

@@ -1,5 +1,7 @@
 #include "scanbus/pose_estimation/laser_height.hpp"
 
+#include <algorithm>
+
 namespace scanbus::pose_estimation {
 
 double height_change(double dx, double dy, const Eigen::Quaterniond& attitude_before,
@@ -20,6 +22,14 @@ std::vector<GroundReturn> ground_returns(const std::vector<Eigen::Vector3d>& poi
     returns.push_back({position + below.head<2>(), -below.z()});
   }
   return returns;
+}
+
+std::optional<GroundReturn> median_return(std::vector<GroundReturn> returns) {
+  if (returns.empty()) return std::nullopt;
+  const auto median = returns.begin() + static_cast<long>(returns.size() / 2);
+  std::nth_element(returns.begin(), median, returns.end(),
+                   [](const GroundReturn& a, const GroundReturn& b) { return a.depth < b.depth; });
+  return *median;
 }
 
 }  // namespace scanbus::pose_estimation

@@ -51,18 +51,6 @@ PoseEstimatorSettings pose_estimator_settings_from_config(const Config& section)
   return s;
 }
 
-namespace {
-
-std::optional<double> median_depth(std::vector<GroundReturn> returns) {
-  if (returns.empty()) return std::nullopt;
-  const auto median = returns.begin() + static_cast<long>(returns.size() / 2);
-  std::nth_element(returns.begin(), median, returns.end(),
-                   [](const GroundReturn& a, const GroundReturn& b) { return a.depth < b.depth; });
-  return median->depth;
-}
-
-}  // namespace
-
 struct PoseEstimator::Local {
   GeographicLib::LocalCartesian frame;
 };
@@ -161,7 +149,7 @@ EstimatedPose PoseEstimator::estimate(const Match& match) {
   const auto scan = scans_.find(match.stamp);
   if (scan != scans_.end() && attitude && pose.has_position) {
     ground = ground_returns(scan->second, *attitude, pose.position.head<2>(), settings_.laser_in_body);
-    pose.clearance = median_depth(ground);
+    if (const auto median = median_return(ground)) pose.clearance = median->depth;
   }
   scans_.erase(scans_.begin(), scans_.upper_bound(match.stamp));
   const uint64_t rejected = fusion_.changes_rejected();

@@ -24,6 +24,9 @@ struct GroundReturn {
   double depth;
 };
 
+// The return of median depth, none of no returns: a box or a stone among them is outvoted.
+std::optional<GroundReturn> median_return(std::vector<GroundReturn> returns);
+
 // A scan's points (in the laser's frame) placed under the body: turned by its attitude and
 // set at its horizontal position in the map (m).
 std::vector<GroundReturn> ground_returns(const std::vector<Eigen::Vector3d>& points, const Eigen::Quaterniond& attitude,
