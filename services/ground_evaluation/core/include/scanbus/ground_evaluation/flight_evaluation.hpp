@@ -66,12 +66,12 @@ constexpr const char* kHeightSourceNames[] = {"barometer", "scan_matcher", "fuse
 struct HeightSample {
   double stamp = 0, truth = 0;
   double height[3] = {0, 0, 0};  // by HeightSource
-  double clearance = NAN;        // m above the ground line of the pose's scan, NaN when it showed none
+  double clearance = NAN;        // m above the ground under the pose's scan (its median return), NaN when none
 };
 
 struct FlightEvaluation {
   size_t scans = 0, poses = 0, matches_failed = 0, changes_rejected = 0;
-  size_t clearances = 0;     // poses whose scan showed a ground line
+  size_t clearances = 0;     // poses whose scan showed the ground
   size_t ground_cells = 0;  // corners of the fusion's elevation map at the end
   double height_rmse[3] = {0, 0, 0};  // m against the truth, by HeightSource
   double fusion_ms_per_update = 0;    // wall time of the pose estimator per scan
