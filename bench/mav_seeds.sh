@@ -2,8 +2,10 @@
 # The MAV targets across noise seeds: `scanbus eval mav` (four 3-minute scenarios) for each
 # seed, one markdown row per seed (fused height RMSE, its ratio to the better single source
 # in each scenario, scenario IV's box P with each height, the fused cloud's height error
-# against the true ground: RMSE and bias, worst scenario) and a summary. Extra arguments go
-# to `scanbus eval mav` (e.g. --no-ground). About 30 s per seed on one core.
+# against the true ground: RMSE and bias, worst scenario) and a summary (also: fused below
+# GPS altitude alone, the fused height's sigma coverage). Extra arguments go to `scanbus
+# eval mav` (e.g. --no-ground, --gps float, --noise-scale 2). About 30 s per seed on one
+# core over flat ground. MAV_SEEDS_KEEP=DIR keeps each seed's JSON there.
 #   bench/mav_seeds.sh [--seeds 1-10] [eval mav options, e.g. --terrain config/terrain/slope_mound.yaml]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,8 +16,13 @@ if [ "${1:-}" = "--seeds" ]; then
 fi
 scanbus=${SCANBUS:-build/services/cli/scanbus}
 [ -x "$scanbus" ] || scripts/build.sh > /dev/null
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+if [ -n "${MAV_SEEDS_KEEP:-}" ]; then
+  work=$MAV_SEEDS_KEEP
+  mkdir -p "$work"
+else
+  work=$(mktemp -d)
+  trap 'rm -rf "$work"' EXIT
+fi
 for seed in $(seq "$first" "$last"); do
   [ -t 2 ] && printf '\rseed %s of %s-%s ' "$seed" "$first" "$last" >&2
   "$scanbus" eval mav --seed "$seed" --json "$@" > "$work/$seed.json" 2> "$work/$seed.log" || {
@@ -27,12 +34,12 @@ done
 python3 - "$work" "$first" "$last" <<'PY'
 import json, statistics, sys
 folder, first, last = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-print("| seed | fused RMSE | ratio I | II | III | IV | scenario IV P: barometer | scan matcher | fused | ground RMSE fused (worst) | its bias |")
-print("|---|---|---|---|---|---|---|---|---|---|---|")
-ratios, held, p_fused, ground = [], 0, [], []
+print("| seed | fused RMSE | GPS RMSE | ratio I | II | III | IV | scenario IV P: barometer | scan matcher | fused | ground RMSE fused (worst) | its bias |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+ratios, held, p_fused, ground, below_gps, within = [], 0, [], [], 0, []
 for seed in range(first, last + 1):
     flights = json.load(open(f"{folder}/{seed}.json"))
-    row, fused, worst = [], [], None
+    row, fused, gps, worst = [], [], [], None
     for flight in flights:
         g = flight.get("ground_error_m", {}).get("fused")
         if g and (worst is None or g["rmse"] > worst["rmse"]): worst = g
@@ -42,16 +49,25 @@ for seed in range(first, last + 1):
         held += ratio <= 0.5
         row.append(f"{ratio:.2f}")
         fused.append(rmse["fused"])
+        if "gps" in rmse:
+            gps.append(rmse["gps"])
+            below_gps += rmse["fused"] < rmse["gps"]
+        within.append(flight["fused_within_sigma"])
     boxes = flights[-1].get("boxes", {})
     p = {k: (v["performance_percent"] if v["ok"] else 0.0) for k, v in boxes.items()}
     if p: p_fused.append(p["fused"])
     cells = [f"{p[k]:.2f} %" for k in ("barometer", "scan_matcher", "fused")] if p else ["", "", ""]
     if worst: ground.append(worst["rmse"])
     cells += [f"{worst['rmse']:.3f} m", f"{worst['bias']:+.3f} m"] if worst else ["", ""]
-    print(f"| {seed} | {min(fused):.3f}-{max(fused):.3f} m | " + " | ".join(row) + " | " + " | ".join(cells) + " |")
+    gps_text = f"{min(gps):.3f}-{max(gps):.3f} m" if gps else "-"
+    print(f"| {seed} | {min(fused):.3f}-{max(fused):.3f} m | {gps_text} | " + " | ".join(row) + " | " + " | ".join(cells) + " |")
 print()
 print(f"fused <= half the better source: {held} of {len(ratios)} flights; ratio median {statistics.median(ratios):.2f}, "
-      f"worst {max(ratios):.2f}")
+      f"worst {max(ratios):.2f}; fused below GPS altitude alone: {below_gps} of {len(ratios)}")
+one = [w["1"] for w in within]
+two = [w["2"] for w in within]
+print(f"fused height within 1 sigma: median {statistics.median(one):.0%} of poses (flights {min(one):.0%}-{max(one):.0%}); "
+      f"within 2 sigma: median {statistics.median(two):.0%} ({min(two):.0%}-{max(two):.0%})")
 if ground:
     print(f"fused ground RMSE, worst scenario of each seed: median {statistics.median(ground):.3f} m, worst {max(ground):.3f} m")
 if p_fused:

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
@@ -33,6 +34,7 @@ struct FlightOptions {
   std::vector<double> box{0.6, 0.4, 0.3};
   unsigned seed = 1;
   std::string gps = "rtk";
+  double noise_scale = 1;   // every sensor error times this
   double laser_rate = 30;   // Hz, the paper's laser
   int laser_rays = 361;     // at 0.25 degrees: the paper's 90 degrees; 1,081 spans 270 (a Hokuyo UTM-30LX)
   std::string terrain;      // a YAML file with a `terrain` map; empty: flat, as in the paper
@@ -47,7 +49,11 @@ mav_sim::FlightSettings flight_settings(const FlightOptions& options) {
   settings.seed = options.seed;
   settings.laser.rate = options.laser_rate;
   settings.laser.field_of_view = (options.laser_rays - 1) * settings.laser.step;
-  if (options.gps == "standalone") settings.noise = mav_sim::standalone_gps(settings.noise);
+  const mav_sim::GpsMode gps = options.gps == "float"        ? mav_sim::GpsMode::rtk_float
+                               : options.gps == "standalone" ? mav_sim::GpsMode::standalone
+                                                             : mav_sim::GpsMode::rtk_fixed;
+  settings.noise = mav_sim::with_gps(settings.noise, gps);
+  settings.noise_scale = options.noise_scale;
   if (!options.terrain.empty()) {
     const Config file = Config::load(options.terrain);
     if (!file.has("terrain")) file.missing("terrain");
@@ -64,8 +70,12 @@ void add_flight_options(CLI::App& command, FlightOptions& options) {
       ->expected(3)
       ->delimiter(',');
   command.add_option("--seed", options.seed, "Noise seed");
-  command.add_option("--gps", options.gps, "GPS grade: rtk (centimetres) or standalone (metres of wander)")
-      ->check(CLI::IsMember({"rtk", "standalone"}));
+  command.add_option("--gps", options.gps, "GPS receiver's mode: rtk (fixed, centimetres), float (RTK float, "
+                     "decimetres) or standalone (metres of wander)")
+      ->check(CLI::IsMember({"rtk", "float", "standalone"}));
+  command.add_option("--noise-scale", options.noise_scale, "Every simulated sensor error times this (0.5, 2: what "
+                     "the fusion does when the real noise is half or twice what its defaults assume)")
+      ->check(CLI::Range(0.0, 10.0));
   command.add_option("--laser-rate", options.laser_rate, "Laser scans per second")->check(CLI::Range(1.0, 200.0));
   command.add_option("--laser-rays", options.laser_rays, "Rays per scan, 0.25 degrees apart, centred on straight down")
       ->check(CLI::Range(2, 1441));
@@ -128,11 +138,13 @@ void write_clouds(const std::string& folder, const std::string& flight, const Fl
   std::replace(stem.begin(), stem.end(), ' ', '_');
   stem = stem.substr(stem.find_last_of('/') + 1);
   std::ofstream heights(folder + "/" + stem + "_heights.csv");
-  heights << "stamp,truth,barometer,scan_matcher,fused,clearance\n";
+  heights << "stamp,truth,barometer,scan_matcher,fused,gps,clearance\n";
   for (const auto& sample : evaluation.heights)
     heights << std::fixed << std::setprecision(4) << sample.stamp << ',' << sample.truth << ',' << sample.height[0]
-            << ',' << sample.height[1] << ',' << sample.height[2] << ',' << sample.clearance << '\n';
-  for (int source = 0; source < 3; ++source) {
+            << ',' << sample.height[1] << ',' << sample.height[2] << ',' << sample.height[3] << ',' << sample.clearance
+            << '\n';
+  for (int source = 0; source < ground_evaluation::kHeightSources; ++source) {
+    if (evaluation.cloud[source].empty()) continue;
     std::vector<CloudPoint> points;
     points.reserve(evaluation.cloud[source].size());
     for (const auto& p : evaluation.cloud[source]) points.push_back({p, 0.0f});
@@ -151,9 +163,11 @@ nlohmann::json evaluation_json(const std::string& name, const FlightEvaluation& 
                       {"rejected_changes", e.changes_rejected},
                       {"clearances", e.clearances},
                       {"ground_cells", e.ground_cells},
-                      {"fusion_ms_per_update", e.fusion_ms_per_update}};
+                      {"fusion_ms_per_update", e.fusion_ms_per_update},
+                      {"fused_within_sigma", {{"1", e.fused_within_sigma[0]}, {"2", e.fused_within_sigma[1]}}}};
   if (!e.has_ground) json["ground_error_note"] = "not measured: the log does not carry its true ground (META scenario)";
-  for (int source = 0; source < 3; ++source) {
+  for (int source = 0; source < ground_evaluation::kHeightSources; ++source) {
+    if (std::isnan(e.height_rmse[source])) continue;  // no such height in this log (GPS)
     json["height_rmse_m"][ground_evaluation::kHeightSourceNames[source]] = e.height_rmse[source];
     if (e.has_ground) {
       const auto& g = e.ground[source];
@@ -207,9 +221,10 @@ int run_eval_mav(EvalMavOptions options) {
   if (progress) std::printf("\r%60s\r", "");
   nlohmann::json results = nlohmann::json::array();
   if (!options.json)
-    std::printf("%-14s %6s %7s | height RMSE (m): %9s %12s %7s %6s | boxes P: %9s %12s %8s | ground RMSE (m): %9s %12s %7s\n",
-                "flight", "scans", "failed", "barometer", "scan matcher", "fused", "ratio", "barometer", "scan matcher",
-                "fused", "barometer", "scan matcher", "fused");
+    std::printf("%-14s %6s %7s | height RMSE (m): %9s %12s %7s %6s %6s | boxes P: %9s %12s %8s | ground RMSE (m): %9s %12s "
+                "%7s %6s\n",
+                "flight", "scans", "failed", "barometer", "scan matcher", "GPS", "fused", "ratio", "barometer",
+                "scan matcher", "fused", "barometer", "scan matcher", "GPS", "fused");
   for (size_t i = 0; i < flights.size(); ++i) {
     const std::string& name = flights[i].first;
     const FlightEvaluation& evaluation = evaluations[i];
@@ -218,15 +233,16 @@ int run_eval_mav(EvalMavOptions options) {
       continue;
     }
     const double best = std::min(evaluation.height_rmse[0], evaluation.height_rmse[1]);
-    std::printf("%-14s %6zu %7zu | %26.3f %12.3f %7.3f %6.2f | %18s %12s %8s | ", name.c_str(), evaluation.scans,
+    std::printf("%-14s %6zu %7zu | %26.3f %12.3f %7.3f %6.3f %6.2f | %18s %12s %8s | ", name.c_str(), evaluation.scans,
                 evaluation.matches_failed, evaluation.height_rmse[0], evaluation.height_rmse[1],
-                evaluation.height_rmse[2], evaluation.height_rmse[2] / best,
+                evaluation.height_rmse[3], evaluation.height_rmse[2], evaluation.height_rmse[2] / best,
                 performance_text(evaluation.boxes[0]).c_str(), performance_text(evaluation.boxes[1]).c_str(),
                 performance_text(evaluation.boxes[2]).c_str());
     if (evaluation.has_ground)
-      std::printf("%26.3f %12.3f %7.3f\n", evaluation.ground[0].rmse, evaluation.ground[1].rmse, evaluation.ground[2].rmse);
+      std::printf("%26.3f %12.3f %7.3f %6.3f\n", evaluation.ground[0].rmse, evaluation.ground[1].rmse,
+                  evaluation.ground[3].rmse, evaluation.ground[2].rmse);
     else
-      std::printf("%48s\n", "not known (no META scenario)");
+      std::printf("%55s\n", "not known (no META scenario)");
   }
   if (options.json) std::cout << results.dump() << "\n";
   return 0;

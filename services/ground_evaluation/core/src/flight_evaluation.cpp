@@ -86,14 +86,16 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
   scan_matcher::ScanMatcher matcher(settings.matcher);
 
   const HeightSeries truth = HeightSeries::truth_of(log);
-  HeightSeries barometer;
+  HeightSeries barometer, gps;
   for (const auto& record : log.baros) barometer.add(record.stamp, estimator.barometric_height(record.pressure));
+  for (const auto& fix : log.fixes) gps.add(fix.stamp, estimator.map_position(fix.latitude, fix.longitude, fix.altitude).z());
+  const int sources = log.fixes.empty() ? kHeightSources - 1 : kHeightSources;  // GPS last
 
   FlightEvaluation result;
   result.scans = log.lasers.size();
   std::map<double, size_t> scan_at;  // laser records waiting for their pose
   std::optional<double> integrated;  // the paper's height: first barometer + the changes
-  double squared[3] = {0, 0, 0};
+  double squared[kHeightSources] = {0, 0, 0, 0};
   std::chrono::duration<double> fusion_time{0};
   const auto take_poses = [&](bool all) {
     const auto started = std::chrono::steady_clock::now();
@@ -104,12 +106,14 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
       if (found == scan_at.end()) continue;
       const double baro = barometer.at(pose.stamp);
       integrated = integrated ? *integrated + pose.height_change.value_or(0.0) : baro;
-      const double heights[3] = {baro, *integrated, pose.position.z()};
+      const double heights[kHeightSources] = {baro, *integrated, pose.position.z(),
+                                              log.fixes.empty() ? NAN : gps.at(pose.stamp)};
       const double true_height = truth.at(pose.stamp);
       result.heights.push_back(
-          {pose.stamp, true_height, {heights[0], heights[1], heights[2]}, pose.clearance.value_or(NAN)});
+          {pose.stamp, true_height, {heights[0], heights[1], heights[2], heights[3]}, pose.clearance.value_or(NAN),
+           pose.position_sigma.z()});
       const auto points = cloud_assembly::scan_points(scan_data(log.lasers[found->second]), settings.gating);
-      for (int source = 0; source < 3; ++source) {
+      for (int source = 0; source < sources; ++source) {
         squared[source] += std::pow(heights[source] - true_height, 2);
         Eigen::Isometry3d body = Eigen::Isometry3d::Identity();
         body.translation() = Eigen::Vector3d(pose.position.x(), pose.position.y(), heights[source]);
@@ -155,18 +159,25 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
   take_poses(true);  // the log has ended: nothing more will come
   if (progress) progress(records.size(), records.size());
 
-  for (int source = 0; source < 3; ++source)
-    result.height_rmse[source] = result.poses ? std::sqrt(squared[source] / static_cast<double>(result.poses)) : NAN;
+  for (int source = 0; source < kHeightSources; ++source)
+    result.height_rmse[source] =
+        result.poses && source < sources ? std::sqrt(squared[source] / static_cast<double>(result.poses)) : NAN;
+  for (int k = 1; k <= 2; ++k) {
+    const auto within = std::count_if(result.heights.begin(), result.heights.end(), [k](const HeightSample& h) {
+      return std::abs(h.height[static_cast<int>(HeightSource::Fused)] - h.truth) <= k * h.fused_sigma;
+    });
+    if (!result.heights.empty()) result.fused_within_sigma[k - 1] = static_cast<double>(within) / result.heights.size();
+  }
   result.changes_rejected = estimator.fusion().changes_rejected();
   result.ground_cells = estimator.fusion().ground_cells();
   result.fusion_ms_per_update = result.poses ? fusion_time.count() * 1000 / static_cast<double>(result.poses) : 0;
   result.has_ground = static_cast<bool>(settings.true_ground);
   if (result.has_ground)
-    for (int source = 0; source < 3; ++source) result.ground[source] = ground_model_error(result.cloud[source], settings.true_ground);
+    for (int source = 0; source < sources; ++source) result.ground[source] = ground_model_error(result.cloud[source], settings.true_ground);
   const auto boxes = log.meta.find("boxes");
   result.has_boxes = boxes != log.meta.end() && boxes->second.size() >= 2;
   if (result.has_boxes) {
-    for (int source = 0; source < 3; ++source)
+    for (int source = 0; source < sources; ++source)
       result.boxes[source] = evaluate_boxes(result.cloud[source], boxes->second[1], boxes->second[0], settings.boxes);
   }
   return result;

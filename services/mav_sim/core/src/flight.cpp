@@ -61,6 +61,8 @@ void validate(const FlightSettings& s) {
   check(s.laser.rate > 0 && s.noise.imu_rate > 0 && s.noise.gps_rate > 0 && s.noise.baro_rate > 0,
         "sensor rates must be positive");
   check(s.noise.gps_velocity_time > 0 && s.noise.gps_wander_time > 0, "GPS correlation times must be positive");
+  check(s.noise.baro_wash_time > 0 && s.noise.baro_warmup_time > 0, "barometer correlation times must be positive");
+  check(s.noise_scale >= 0 && s.noise_scale <= 10, "noise scale must be 0 to 10");
   check(s.laser.field_of_view > 0 && s.laser.field_of_view <= 2 * M_PI, "laser field of view must be in (0, 360] degrees");
   check(s.laser.step > 1e-4 && s.laser.field_of_view / s.laser.step < 20000, "laser step too small");
   if (const auto problem = terrain_problem(s.terrain)) throw std::invalid_argument("terrain: " + problem->message());
@@ -68,10 +70,25 @@ void validate(const FlightSettings& s) {
 
 }  // namespace
 
-SensorNoise standalone_gps(SensorNoise noise) {
-  noise.gps_horizontal = 0.02, noise.gps_vertical = 0.05;
-  noise.gps_velocity_horizontal = 0.02, noise.gps_velocity_vertical = 0.05;
-  noise.gps_wander_time = 300;
+SensorNoise with_gps(SensorNoise noise, GpsMode mode) {
+  switch (mode) {
+    case GpsMode::rtk_fixed:  // 1 cm jitter, under 2 cm (horizontal) and 4 cm (vertical) of wander
+      noise.gps_horizontal = 0.01, noise.gps_vertical = 0.02;
+      noise.gps_velocity_horizontal = 0.0005, noise.gps_velocity_vertical = 0.001;
+      noise.gps_wander_time = 60;
+      break;
+    case GpsMode::rtk_float:  // about 0.25 m (horizontal) and 0.5 m (vertical) of wander
+      noise.gps_horizontal = 0.05, noise.gps_vertical = 0.1;
+      noise.gps_velocity_horizontal = 0.005, noise.gps_velocity_vertical = 0.01;
+      noise.gps_wander_time = 120;
+      break;
+    case GpsMode::standalone:  // about 1.5 m (horizontal) and 3.9 m (vertical) of wander
+      noise.gps_horizontal = 0.02, noise.gps_vertical = 0.05;
+      noise.gps_velocity_horizontal = 0.02, noise.gps_velocity_vertical = 0.05;
+      noise.gps_wander_time = 300;
+      break;
+  }
+  noise.gps_velocity_time = 20;
   return noise;
 }
 
@@ -174,13 +191,35 @@ std::optional<GroundWorld> world_of_log(const sensor_replay::MavLog& log) {
   return scenario_world(settings);
 }
 
-sensor_replay::MavLog simulate_flight(const FlightSettings& s) {
-  validate(s);
+namespace {
+
+// Every error and sigma of the sensors times noise_scale (rates and correlation times stay).
+FlightSettings with_errors_scaled(FlightSettings s) {
+  SensorNoise& n = s.noise;
+  for (double* sigma : {&s.laser.noise, &s.laser.range_bias, &s.laser.misalignment, &n.imu_roll_pitch, &n.imu_yaw,
+                        &n.gps_horizontal, &n.gps_vertical, &n.gps_velocity_horizontal, &n.gps_velocity_vertical,
+                        &n.baro_noise, &n.baro_wash, &n.baro_takeoff, &n.baro_warmup, &n.baro_weather})
+    *sigma *= s.noise_scale;
+  return s;
+}
+
+}  // namespace
+
+sensor_replay::MavLog simulate_flight(const FlightSettings& settings) {
+  validate(settings);
+  const FlightSettings s = with_errors_scaled(settings);
   std::mt19937 random(s.seed);
   std::normal_distribution<double> gauss(0, 1);
   const GroundWorld world = scenario_world(s);
   check_clearance(s, world);
-  const Eigen::Isometry3d mount = laser_in_body(s.laser);
+  // The flight's own errors, drawn once: the laser as mounted and its range offset, the
+  // barometer's offset at take-off, its warm-up drift and the weather's trend.
+  const double range_bias = s.laser.range_bias * gauss(random);
+  const double misaligned_roll = s.laser.misalignment * gauss(random), misaligned_pitch = s.laser.misalignment * gauss(random);
+  const Eigen::Isometry3d mount =
+      laser_in_body(s.laser) * from_rpy(misaligned_roll, misaligned_pitch, s.laser.misalignment * gauss(random));
+  const double baro_takeoff = s.noise.baro_takeoff * gauss(random), baro_warmup = s.noise.baro_warmup * gauss(random),
+               baro_weather = s.noise.baro_weather * gauss(random);
   const GeographicLib::LocalCartesian local(s.origin.x(), s.origin.y(), s.origin.z());
   sensor_replay::MavLog log;
   log.meta["scenario"] = {static_cast<double>(s.scenario)};
@@ -203,7 +242,7 @@ sensor_replay::MavLog simulate_flight(const FlightSettings& s) {
     for (int i = 0; i < rays; ++i) {
       const double angle = scan.angle_min + i * s.laser.step;
       const Eigen::Vector3d direction = laser.linear() * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0);
-      const double range = world.cast(laser.translation(), direction) + s.laser.noise * gauss(random);
+      const double range = world.cast(laser.translation(), direction) + range_bias + s.laser.noise * gauss(random);
       scan.ranges.push_back(range <= s.laser.range_max ? static_cast<float>(range) : INFINITY);
     }
     log.lasers.push_back(std::move(scan));
@@ -234,10 +273,13 @@ sensor_replay::MavLog simulate_flight(const FlightSettings& s) {
     fix.vertical_sigma = std::hypot(s.noise.gps_vertical, s.noise.gps_velocity_vertical * wander_scale);
     log.fixes.push_back(fix);
   }
-  double drift = 0;
-  for (double t = 0; t < s.duration; t += 1 / s.noise.baro_rate) {
-    drift += s.noise.baro_drift * std::sqrt(1 / s.noise.baro_rate) * gauss(random);
-    const double altitude = s.origin.z() + scenario_state(s, t).position.z() + drift + s.noise.baro_noise * gauss(random);
+  const double baro_step = 1 / s.noise.baro_rate, wash_decay = std::exp(-baro_step / s.noise.baro_wash_time);
+  double wash = s.noise.baro_wash * gauss(random);
+  for (double t = 0; t < s.duration; t += baro_step) {
+    wash = wash_decay * wash + s.noise.baro_wash * std::sqrt(1 - wash_decay * wash_decay) * gauss(random);
+    const double drift = baro_takeoff + baro_warmup * (1 - std::exp(-t / s.noise.baro_warmup_time)) + baro_weather * t;
+    const double altitude =
+        s.origin.z() + scenario_state(s, t).position.z() + drift + wash + s.noise.baro_noise * gauss(random);
     log.baros.push_back({s.start_stamp + t, pressure_at_altitude(altitude)});
   }
   for (double t = 0; t < s.duration; t += 0.01) {

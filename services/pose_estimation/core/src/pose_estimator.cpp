@@ -72,13 +72,17 @@ void PoseEstimator::add_imu(double stamp, const Eigen::Quaterniond& orientation)
 void PoseEstimator::add_fix(double stamp, double latitude, double longitude, double altitude,
                             double horizontal_sigma, double vertical_sigma) {
   Eigen::Isometry3d position = Eigen::Isometry3d::Identity();
-  double east, north, up;
-  local_->frame.Forward(latitude, longitude, altitude, east, north, up);
-  position.translation() = Eigen::Vector3d(east, north, up);
+  position.translation() = map_position(latitude, longitude, altitude);
   positions_.add(stamp, position);
   position_sigma_ = Eigen::Vector3d(horizontal_sigma, horizontal_sigma, vertical_sigma);
-  if (settings_.gps_altitude) fusion_.add_gps(stamp, up, vertical_sigma);
+  if (settings_.gps_altitude) fusion_.add_gps(stamp, position.translation().z(), vertical_sigma);
   newest_input_ = std::max(newest_input_, stamp);
+}
+
+Eigen::Vector3d PoseEstimator::map_position(double latitude, double longitude, double altitude) const {
+  double east, north, up;
+  local_->frame.Forward(latitude, longitude, altitude, east, north, up);
+  return {east, north, up};
 }
 
 double PoseEstimator::barometric_height(double pascal) const {

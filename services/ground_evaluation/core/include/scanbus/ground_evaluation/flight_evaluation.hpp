@@ -1,9 +1,9 @@
 // A MAV log through the whole pipeline in one process, scored against its ground truth:
 // the scan matcher, the pose estimator, the cloud built from the poses, and the boxes in
-// it. Three heights side by side, as the MAV paper compares them: the barometer alone
-// (the paper's "without laser scan matcher"), the barometer's first sample plus the
-// integrated scan-matcher changes (its "with laser scan matcher", section 3.6), and the
-// fusion. The DDS pipeline must reach the same figures (tests/integration).
+// it. Four heights side by side: as the MAV paper compares them, the barometer alone
+// (the paper's "without laser scan matcher") and the barometer's first sample plus the
+// integrated scan-matcher changes (its "with laser scan matcher", section 3.6); the GPS
+// altitude alone; and the fusion. The DDS pipeline must reach the same figures (tests/integration).
 #pragma once
 
 #include <Eigen/Core>
@@ -60,26 +60,29 @@ class HeightSeries {
   std::vector<std::pair<double, double>> samples_;  // by stamp
 };
 
-enum class HeightSource { Barometer = 0, ScanMatcher = 1, Fused = 2 };
-constexpr const char* kHeightSourceNames[] = {"barometer", "scan_matcher", "fused"};
+enum class HeightSource { Barometer = 0, ScanMatcher = 1, Fused = 2, Gps = 3 };
+constexpr int kHeightSources = 4;
+constexpr const char* kHeightSourceNames[kHeightSources] = {"barometer", "scan_matcher", "fused", "gps"};
 
 struct HeightSample {
   double stamp = 0, truth = 0;
-  double height[3] = {0, 0, 0};  // by HeightSource
+  double height[kHeightSources] = {0, 0, 0, 0};  // by HeightSource (GPS: NaN in a log without fixes)
   double clearance = NAN;        // m above the ground under the pose's scan (its median return), NaN when none
+  double fused_sigma = NAN;      // m, the standard deviation the pose carries for its fused height
 };
 
 struct FlightEvaluation {
   size_t scans = 0, poses = 0, matches_failed = 0, changes_rejected = 0;
   size_t clearances = 0;     // poses whose scan showed the ground
   size_t ground_cells = 0;  // corners of the fusion's elevation map at the end
-  double height_rmse[3] = {0, 0, 0};  // m against the truth, by HeightSource
+  double height_rmse[kHeightSources] = {0, 0, 0, 0};  // m against the truth, by HeightSource (NaN: no such height)
   double fusion_ms_per_update = 0;    // wall time of the pose estimator per scan
+  double fused_within_sigma[2] = {NAN, NAN};  // share of poses whose fused height is within 1 and 2 of its sigmas
   bool has_boxes = false;             // the log names its boxes (scenario IV)
-  BoxEvaluation boxes[3];             // the cloud built with each height
+  BoxEvaluation boxes[kHeightSources];  // the cloud built with each height
   bool has_ground = false;            // the true ground is known (settings.true_ground)
-  GroundModelError ground[3];         // the cloud built with each height against it
-  std::vector<Eigen::Vector3f> cloud[3];  // every return in the map frame, by HeightSource
+  GroundModelError ground[kHeightSources];  // the cloud built with each height against it
+  std::vector<Eigen::Vector3f> cloud[kHeightSources];  // every return in the map frame, by HeightSource
   std::vector<HeightSample> heights;      // one per pose
 };
 

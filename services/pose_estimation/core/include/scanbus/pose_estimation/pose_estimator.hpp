@@ -70,6 +70,8 @@ class PoseEstimator {
 
   // The altitude above the map origin that a pressure means.
   double barometric_height(double pascal) const;
+  // A fix's position in the map frame (east, north, up from the origin).
+  Eigen::Vector3d map_position(double latitude, double longitude, double altitude) const;
   const HeightFusion& fusion() const { return fusion_; }
 
  private:
