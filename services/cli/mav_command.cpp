@@ -17,6 +17,7 @@
 #include "mav_messages.hpp"
 #include "scanbus/config.hpp"
 #include "scanbus/mav_sim/flight.hpp"
+#include "scanbus/pose_estimation/pose_estimator.hpp"
 
 namespace scanbus::cli {
 
@@ -128,21 +129,22 @@ struct EvalMavOptions {
   std::string out;  // a folder for each flight's clouds (PCD) and their top views (PNG)
   bool json = false;
   bool no_ground = false;
+  std::string config;  // a pose_estimation service config whose fusion settings to evaluate
 };
 
 // FLIGHT_SOURCE.pcd and .png for each of the three heights, e.g. scenario_IV_fused.pcd, and
-// FLIGHT_heights.csv: the truth, the three heights and the scan's ground clearance at every
-// pose, for plotting.
+// FLIGHT_heights.csv: the truth, the four heights, the scan's ground clearance and the fused
+// height's sigma at every pose, for plotting.
 void write_clouds(const std::string& folder, const std::string& flight, const FlightEvaluation& evaluation) {
   std::string stem = flight;
   std::replace(stem.begin(), stem.end(), ' ', '_');
   stem = stem.substr(stem.find_last_of('/') + 1);
   std::ofstream heights(folder + "/" + stem + "_heights.csv");
-  heights << "stamp,truth,barometer,scan_matcher,fused,gps,clearance\n";
+  heights << "stamp,truth,barometer,scan_matcher,fused,gps,clearance,fused_sigma\n";
   for (const auto& sample : evaluation.heights)
     heights << std::fixed << std::setprecision(4) << sample.stamp << ',' << sample.truth << ',' << sample.height[0]
             << ',' << sample.height[1] << ',' << sample.height[2] << ',' << sample.height[3] << ',' << sample.clearance
-            << '\n';
+            << ',' << sample.fused_sigma << '\n';
   for (int source = 0; source < ground_evaluation::kHeightSources; ++source) {
     if (evaluation.cloud[source].empty()) continue;
     std::vector<CloudPoint> points;
@@ -171,8 +173,11 @@ nlohmann::json evaluation_json(const std::string& name, const FlightEvaluation& 
     json["height_rmse_m"][ground_evaluation::kHeightSourceNames[source]] = e.height_rmse[source];
     if (e.has_ground) {
       const auto& g = e.ground[source];
-      json["ground_error_m"][ground_evaluation::kHeightSourceNames[source]] = {
-          {"rmse", g.rmse}, {"median", g.median}, {"p95", g.p95}, {"bias", g.bias}, {"points", g.points}};
+      auto& ground = json["ground_error_m"][ground_evaluation::kHeightSourceNames[source]];
+      ground = {{"rmse", g.rmse}, {"median", g.median}, {"p95", g.p95}, {"bias", g.bias}, {"points", g.points}};
+      if (!std::isnan(g.slope_error))
+        ground.update({{"slope", {g.slope.x(), g.slope.y()}}, {"true_slope", {g.true_slope.x(), g.true_slope.y()}},
+                       {"slope_error", g.slope_error}});
     }
     if (e.has_boxes) json["boxes"][ground_evaluation::kHeightSourceNames[source]] = boxes_json(e.boxes[source]);
   }
@@ -196,12 +201,24 @@ int run_eval_mav(EvalMavOptions options) {
                            mav_sim::simulate_flight(flight_settings(options.flight)));
     }
   }
+  ground_evaluation::FlightEvaluationSettings base;
+  try {
+    if (!options.config.empty()) {
+      const Config file = Config::load(options.config);
+      const auto estimator = pose_estimation::pose_estimator_settings_from_config(file.section("pose_estimation"));
+      base.fusion = estimator.fusion;
+      base.ground_clearance = estimator.ground_clearance;
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "scanbus eval mav: config error: " << e.what() << "\n";
+    return 2;
+  }
   std::vector<FlightEvaluation> evaluations;
   for (const auto& [name, log] : flights) {
     const std::string label = name;
     try {
-      ground_evaluation::FlightEvaluationSettings settings;
-      settings.ground_clearance = !options.no_ground;
+      ground_evaluation::FlightEvaluationSettings settings = base;
+      settings.ground_clearance = settings.ground_clearance && !options.no_ground;
       if (auto world = mav_sim::world_of_log(log)) {
         constexpr double kEdgeMargin = 0.1;  // m: points this near a box's edge or a step are not scored
         settings.true_ground = [world = std::move(*world)](const Eigen::Vector2d& xy) {
@@ -308,6 +325,9 @@ void add_eval_command(CLI::App& app, int& exit_code) {
   flights->add_option("--out", mav.out, "Folder for each flight's clouds (PCD) and height-coloured top views (PNG)")
       ->check(CLI::ExistingDirectory);
   flights->add_flag("--json", mav.json, "One JSON array, no progress");
+  flights->add_option("--config", mav.config, "A pose_estimation service config (config/services/pose_estimation.yaml) "
+                      "whose fusion settings to evaluate; default: the shipped defaults")
+      ->check(CLI::ExistingFile);
   flights->add_flag("--no-ground", mav.no_ground,
                     "Fuse the barometer, GPS altitude and the scan matcher's changes only, without the ground the scans see");
   on_run(*flights, exit_code, [] { return run_eval_mav(mav); });

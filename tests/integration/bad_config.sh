@@ -49,7 +49,7 @@ for config in "$(dirname "$0")"/../../config/services/*.yaml "$(dirname "$0")"/.
 done
 
 # Every shipped terrain (config/terrain/) flies.
-for terrain in "$(dirname "$0")"/../../config/terrain/*.yaml; do
+for terrain in "$(dirname "$0")"/../../config/terrain/*.yaml "$(dirname "$0")"/../../config/terrain/validation/*.yaml; do
   if "$scanbus" sim mav --terrain "$terrain" --duration 1 --out "$work/terrain.mavlog" > "$work/out" 2>&1; then
     echo "ok   $terrain: $(cat "$work/out")"
   else

@@ -12,6 +12,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <optional>
 
 namespace scanbus::ground_evaluation {
 
@@ -88,8 +90,8 @@ double bounding_area(const std::vector<Eigen::Vector2d>& points, double yaw) {
   return (high_u - low_u) * (high_v - low_v);
 }
 
-// The ground: the plane with most inliers among near-horizontal ones (z up), RANSAC on the
-// centred cloud (RANSAC is unstable far from the origin).
+// The plane with most inliers among near-horizontal ones (z up), RANSAC; on centred
+// coordinates (RANSAC is unstable far from the origin).
 bool fit_ground(const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud, double threshold, Eigen::Vector4d& plane) {
   pcl::SACSegmentation<pcl::PointXYZ> segmentation;
   segmentation.setModelType(pcl::SACMODEL_PERPENDICULAR_PLANE);
@@ -108,6 +110,55 @@ bool fit_ground(const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud, double thresho
   if (plane.z() < 0) plane = -plane;  // height above it is positive
   return true;
 }
+
+// The ground under each point, so the boxes stand out of a slope or a mound as they do out
+// of a level floor: a plane for every `kCell` cell, fitted (fit_ground) to the points of
+// the cell and its eight neighbours, where the boxes are a minority (two 0.6 x 0.4 m boxes
+// fill at most a third of the 1.5 m square) and fall out as outliers.
+class LocalGround {
+ public:
+  LocalGround(const pcl::PointCloud<pcl::PointXYZ>& cloud, double threshold) {
+    std::map<Cell, std::vector<size_t>> members;
+    for (size_t i = 0; i < cloud.size(); ++i) members[cell_of(cloud[i])].push_back(i);
+    for (const auto& [cell, unused] : members) {
+      pcl::PointCloud<pcl::PointXYZ>::Ptr near(new pcl::PointCloud<pcl::PointXYZ>);
+      const Eigen::Vector3f middle((cell.first + 0.5f) * kCell, (cell.second + 0.5f) * kCell, 0);
+      for (long dx = -kReach; dx <= kReach; ++dx)
+        for (long dy = -kReach; dy <= kReach; ++dy) {
+          const auto found = members.find({cell.first + dx, cell.second + dy});
+          if (found == members.end()) continue;
+          // Every n-th point: a few thousand define a plane as well as all of them.
+          const size_t stride = std::max<size_t>(1, found->second.size() / 300);
+          for (size_t k = 0; k < found->second.size(); k += stride) {
+            const auto& p = cloud[found->second[k]];
+            near->push_back(pcl::PointXYZ(p.x - middle.x(), p.y - middle.y(), p.z));
+          }
+        }
+      Eigen::Vector4d plane;
+      if (near->size() >= kLeastPoints && fit_ground(near, threshold, plane)) {
+        plane.w() -= plane.x() * middle.x() + plane.y() * middle.y();  // back to the cloud's coordinates
+        planes_[cell] = plane;
+      }
+    }
+  }
+  bool empty() const { return planes_.empty(); }
+  // Height of `p` above the ground under it; none where the ground is not known.
+  std::optional<double> height_above(const pcl::PointXYZ& p) const {
+    const auto found = planes_.find(cell_of(p));
+    if (found == planes_.end()) return std::nullopt;
+    return found->second.dot(Eigen::Vector4d(p.x, p.y, p.z, 1));
+  }
+
+ private:
+  using Cell = std::pair<long, long>;
+  static constexpr double kCell = 0.5;          // m
+  static constexpr long kReach = 2;             // cells each way: the plane is fitted over 2.5 m x 2.5 m
+  static constexpr size_t kLeastPoints = 50;    // in those cells
+  static Cell cell_of(const pcl::PointXYZ& p) {
+    return {static_cast<long>(std::floor(p.x / kCell)), static_cast<long>(std::floor(p.y / kCell))};
+  }
+  std::map<Cell, Eigen::Vector4d> planes_;
+};
 
 }  // namespace
 
@@ -153,6 +204,50 @@ Footprint fit_footprint(const std::vector<Eigen::Vector2d>& points, double noise
   return footprint;
 }
 
+namespace {
+
+// A box's footprint is drawn from its top alone (its sides, seen at a slant, would widen
+// it): the top is the plane with most of the box's points among near-horizontal ones, level
+// or tilted with the ground the box stands on, and the footprint is measured in it.
+struct Top {
+  std::vector<Eigen::Vector2d> points;  // along e1 and e2 from `origin`
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero(), e1 = Eigen::Vector3d::UnitX(), e2 = Eigen::Vector3d::UnitY();
+};
+Top top_of(const pcl::PointCloud<pcl::PointXYZ>& above, const pcl::PointIndices& cluster, double band) {
+  Top top;
+  for (int index : cluster.indices) top.origin += above[static_cast<size_t>(index)].getVector3fMap().cast<double>();
+  top.origin /= static_cast<double>(cluster.indices.size());
+  pcl::PointCloud<pcl::PointXYZ>::Ptr points(new pcl::PointCloud<pcl::PointXYZ>);
+  for (int index : cluster.indices) {
+    const Eigen::Vector3d p = above[static_cast<size_t>(index)].getVector3fMap().cast<double>() - top.origin;
+    points->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
+  }
+  pcl::SACSegmentation<pcl::PointXYZ> segmentation;
+  segmentation.setModelType(pcl::SACMODEL_PERPENDICULAR_PLANE);
+  segmentation.setMethodType(pcl::SAC_RANSAC);
+  segmentation.setAxis(Eigen::Vector3f::UnitZ());
+  segmentation.setEpsAngle(20 * M_PI / 180);
+  segmentation.setDistanceThreshold(band);
+  segmentation.setMaxIterations(200);
+  segmentation.setInputCloud(points);
+  pcl::PointIndices inliers;
+  pcl::ModelCoefficients coefficients;
+  segmentation.segment(inliers, coefficients);
+  if (coefficients.values.size() != 4) return top;
+  Eigen::Vector3d normal(coefficients.values[0], coefficients.values[1], coefficients.values[2]);
+  normal.normalize();
+  // Axes in the top: e1 under x, e2 under y (a level top keeps the map's axes).
+  top.e1 = (Eigen::Vector3d::UnitX() - normal.x() * normal).normalized();
+  top.e2 = normal.cross(top.e1) * (normal.z() < 0 ? -1 : 1);
+  for (int inlier : inliers.indices) {
+    const Eigen::Vector3d p = (*points)[static_cast<size_t>(inlier)].getVector3fMap().cast<double>();
+    top.points.emplace_back(p.dot(top.e1), p.dot(top.e2));
+  }
+  return top;
+}
+
+}  // namespace
+
 BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double truth_width, double truth_length,
                              const BoxSearchSettings& settings) {
   BoxEvaluation result;
@@ -173,8 +268,8 @@ BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double t
   pcl::PointCloud<pcl::PointXYZ>::Ptr centred(new pcl::PointCloud<pcl::PointXYZ>);
   for (const auto& p : cloud)
     if (p.allFinite()) centred->push_back(pcl::PointXYZ(p.x() - centre.x(), p.y() - centre.y(), p.z() - centre.z()));
-  Eigen::Vector4d plane;
-  if (!fit_ground(centred, settings.ground_threshold, plane)) {
+  const LocalGround ground(*centred, settings.ground_threshold);
+  if (ground.empty()) {
     result.message = "no ground plane found";
     return result;
   }
@@ -182,8 +277,8 @@ BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double t
   // passes: objects start above that (four robust sigmas of the ground's heights).
   std::vector<double> near_ground;
   for (const auto& p : *centred) {
-    const double height = plane.dot(Eigen::Vector4d(p.x, p.y, p.z, 1));
-    if (std::abs(height) < 2 * settings.min_height) near_ground.push_back(std::abs(height));
+    const auto height = ground.height_above(p);
+    if (height && std::abs(*height) < 2 * settings.min_height) near_ground.push_back(std::abs(*height));
   }
   const auto middle = near_ground.begin() + static_cast<long>(near_ground.size() / 2);
   std::nth_element(near_ground.begin(), middle, near_ground.end());
@@ -192,7 +287,7 @@ BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double t
   pcl::PointCloud<pcl::PointXYZ>::Ptr above(new pcl::PointCloud<pcl::PointXYZ>);
   std::vector<double> heights;
   for (const auto& p : *centred) {
-    const double height = plane.dot(Eigen::Vector4d(p.x, p.y, p.z, 1));
+    const double height = ground.height_above(p).value_or(0);  // ground not known: not an object
     if (height > min_height) {
       above->push_back(p);
       heights.push_back(height);
@@ -216,25 +311,17 @@ BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double t
                      std::to_string(settings.boxes) + " boxes";
     return result;
   }
-  // The plane's own axes, so footprints are measured in the ground.
-  const Eigen::Vector3d normal = plane.head<3>();
-  const Eigen::Vector3d e1 = normal.unitOrthogonal(), e2 = normal.cross(e1);
-  std::vector<Eigen::Vector2d> on_ground(above->size());
-  for (size_t i = 0; i < above->size(); ++i) {
-    const Eigen::Vector3d q((*above)[i].x, (*above)[i].y, (*above)[i].z);
-    on_ground[i] = Eigen::Vector2d(q.dot(e1), q.dot(e2));
-  }
   // The boxes are the objects whose size on the ground is nearest the boxes' known
   // footprint: a ridge of ground where the MAV hovered with a wrong height, or a pile of
   // stray returns, may be larger, but is not box-sized. (Only the size is compared: the
   // width/length ratio P measures is left free.)
   const auto size_mismatch = [&](const pcl::PointIndices& cluster) {
     Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    for (int index : cluster.indices) mean += on_ground[static_cast<size_t>(index)];
+    for (int index : cluster.indices) mean += (*above)[static_cast<size_t>(index)].getVector3fMap().head<2>().cast<double>();
     mean /= static_cast<double>(cluster.indices.size());
     Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
     for (int index : cluster.indices) {
-      const Eigen::Vector2d d = on_ground[static_cast<size_t>(index)] - mean;
+      const Eigen::Vector2d d = (*above)[static_cast<size_t>(index)].getVector3fMap().head<2>().cast<double>() - mean;
       scatter += d * d.transpose();
     }
     scatter /= static_cast<double>(cluster.indices.size());
@@ -255,15 +342,12 @@ BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double t
     const auto at = cluster_heights.begin() + static_cast<long>(0.75 * static_cast<double>(cluster_heights.size() - 1));
     std::nth_element(cluster_heights.begin(), at, cluster_heights.end());
     const double top = *at;
-    std::vector<Eigen::Vector2d> footprint_points;
-    for (int index : cluster.indices)
-      if (heights[static_cast<size_t>(index)] >= settings.top_fraction * top)
-        footprint_points.push_back(on_ground[static_cast<size_t>(index)]);
-    const Footprint footprint = fit_footprint(footprint_points, settings.noise);
+    const Top box_top = top_of(*above, cluster, settings.top_band);
+    const Footprint footprint = fit_footprint(box_top.points, settings.noise);
     BoxMeasurement box;
-    const Eigen::Vector3d middle = footprint.centre.x() * e1 + footprint.centre.y() * e2;
-    box.centre = (middle + centre).head<2>();  // middle lies in the plane's directions
-    const Eigen::Vector3d length_axis = std::cos(footprint.yaw) * e1 + std::sin(footprint.yaw) * e2;
+    const Eigen::Vector3d middle = box_top.origin + footprint.centre.x() * box_top.e1 + footprint.centre.y() * box_top.e2;
+    box.centre = (middle + centre).head<2>();
+    const Eigen::Vector3d length_axis = std::cos(footprint.yaw) * box_top.e1 + std::sin(footprint.yaw) * box_top.e2;
     box.yaw = std::remainder(std::atan2(length_axis.y(), length_axis.x()), M_PI);
     box.length = footprint.length;
     box.width = footprint.width;

@@ -1,5 +1,7 @@
 #include "scanbus/ground_evaluation/flight_evaluation.hpp"
 
+#include <Eigen/LU>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -53,15 +55,29 @@ GroundModelError ground_model_error(const std::vector<Eigen::Vector3f>& cloud,
   GroundModelError error;
   std::vector<double> sizes;
   double squares = 0, sum = 0;
+  // Normal equations of the planes z = a + b x + c y through the cloud and through the truth.
+  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d cloud_side = Eigen::Vector3d::Zero(), true_side = Eigen::Vector3d::Zero();
   for (const auto& p : cloud) {
     const std::optional<double> ground = true_ground(p.head<2>().cast<double>());
     if (!ground) continue;
     const double e = p.z() - *ground;
     squares += e * e, sum += e;
     sizes.push_back(std::abs(e));
+    const Eigen::Vector3d row(1, p.x(), p.y());
+    normal += row * row.transpose();
+    cloud_side += row * p.z(), true_side += row * *ground;
   }
   error.points = sizes.size();
   if (sizes.empty()) return error;
+  const Eigen::FullPivLU<Eigen::Matrix3d> planes(normal);
+  if (planes.rank() == 3) {  // points along one line (a single pass) do not define a tilt
+    error.slope = planes.solve(cloud_side).tail<2>();
+    error.true_slope = planes.solve(true_side).tail<2>();
+    constexpr double kLeastTilt = 0.01;  // dz per m: flatter, the relative error means nothing
+    if (error.true_slope.norm() >= kLeastTilt)
+      error.slope_error = (error.slope - error.true_slope).norm() / error.true_slope.norm();
+  }
   const auto n = static_cast<double>(sizes.size());
   error.rmse = std::sqrt(squares / n);
   error.bias = sum / n;

@@ -83,6 +83,23 @@ TEST(GroundModelError, ScoresWhereTheGroundIsKnown) {
   EXPECT_NEAR(error.median, 0.1, 1e-6);
   EXPECT_NEAR(error.p95, 0.3, 1e-6);
   EXPECT_EQ(ground_model_error(cloud, [](const Eigen::Vector2d&) { return std::optional<double>(); }).points, 0u);
+  EXPECT_TRUE(std::isnan(error.slope_error));  // one line of points: no plane
+}
+
+// A cloud flattened to 90 % of the terrain's tilt is 10 % off; level ground has no relative error.
+TEST(GroundModelError, ComparesTheCloudsTiltWithTheTerrains) {
+  const auto sloped = [](const Eigen::Vector2d& xy) -> std::optional<double> { return 0.05 * xy.x() - 0.02 * xy.y(); };
+  std::vector<Eigen::Vector3f> cloud;
+  for (int x = 0; x < 10; ++x)
+    for (int y = -2; y <= 2; ++y) cloud.emplace_back(x, y, 0.9 * *sloped({x, y}) + 0.3);
+  const GroundModelError error = ground_model_error(cloud, sloped);
+  EXPECT_NEAR(error.true_slope.x(), 0.05, 1e-9);
+  EXPECT_NEAR(error.true_slope.y(), -0.02, 1e-9);
+  EXPECT_NEAR(error.slope.x(), 0.045, 1e-6);
+  EXPECT_NEAR(error.slope_error, 0.1, 1e-5);
+  const GroundModelError level = ground_model_error(cloud, [](const Eigen::Vector2d&) { return std::optional<double>(0.0); });
+  EXPECT_TRUE(std::isnan(level.slope_error));
+  EXPECT_NEAR(level.slope.x(), 0.045, 1e-6);
 }
 
 // Over flat ground the fused cloud lies within centimetres of the truth; over a terrain the

@@ -54,6 +54,8 @@ double HeightFusion::add_node(double stamp, std::optional<double> change, const 
   if (change) last_change_ = {stamp, *change};
   const bool first = nodes_.empty();
   const double predicted = first ? first_altitude_.value_or(0) : states_.at(nodes_.back().second) + change.value_or(0);
+  // Until the first solve the height is one barometer altitude: its sigma is that sample's.
+  if (first) height_sigma_ = std::hypot(settings_.baro_sigma, settings_.initial_bias_sigma);
   const long height = new_state(predicted);
   const bool saw_ground = add_ground(stamp, height, ground);
   if (!first && change && !(saw_ground && previous_saw_ground_)) {

@@ -133,7 +133,9 @@ TEST(HeightFusion, ABarometerJumpIsCountedAndBarelyMovesTheHeight) {
 }
 
 TEST(HeightFusion, ABarometerShiftThatPersistsIsBelievedAfterTheGateTime) {
-  HeightFusion fusion;
+  FusionSettings settings;
+  settings.initial_bias_sigma = 0.05;  // a barometer known to 5 cm: a 3 m step is 60 of its sigmas
+  HeightFusion fusion(settings);
   double at_15s = 0;
   for (int k = 0; k < 400; ++k) {
     const double t = k * 0.1;
@@ -207,8 +209,11 @@ TEST(PoseEstimator, GoesAheadWithoutImuAfterMaxWait) {
 }
 
 TEST(PoseEstimator, ScanMatcherChangesCarryTheHeightBetweenNoisyBarometerSamples) {
-  // Climbing at 0.3 m/s, level: the laser (x down) moves along its -x.
-  PoseEstimator estimator(settings_at_origin());
+  // Climbing at 0.3 m/s, level: the laser (x down) moves along its -x. The barometer is
+  // known to 5 cm at the start (the default allows for the decimetres of a take-off).
+  PoseEstimatorSettings settings = settings_at_origin();
+  settings.fusion.initial_bias_sigma = 0.05;
+  PoseEstimator estimator(settings);
   std::mt19937 random(5);
   std::normal_distribution<double> gauss(0, 1);
   double worst = 0;

@@ -1,5 +1,7 @@
 // The MAV paper's quantitative check of a ground model (section 4.1): boxes of known size
-// stand on flat ground; find them in the cloud (ground plane removed, Euclidean clusters,
+// stand on the ground; find them in the cloud (the paper's ground is flat: here the ground is
+// removed as a plane per half-metre cell, so boxes on a slope or a mound are found the same
+// way; Euclidean clusters,
 // the objects nearest the boxes' known footprint area), fit each one's footprint rectangle
 // and compare its width/length ratio with the truth:
 // E = |ratio_measured - ratio_actual| / ratio_actual * 100 %, P = 100 % - E.
@@ -19,8 +21,8 @@ struct BoxSearchSettings {
                                     // to four sigmas of the ground's own spread when that is more)
   double cluster_tolerance = 0.05;  // m between neighbouring points of one box
   size_t min_cluster_points = 30;
-  double top_fraction = 0.9;        // a box's footprint is drawn from its points above this share of
-                                    // its top's height: its sides, seen at a slant, would widen it
+  double top_band = 0.04;           // m: a box's footprint is drawn from its points this near the
+                                    // plane of its top (its sides, seen at a slant, would widen it)
   double noise = 0.02;              // m: a first guess of the points' noise (estimated with the sides)
 };
 
@@ -39,7 +41,7 @@ struct BoxEvaluation {
   std::vector<BoxMeasurement> boxes;  // the objects nearest the boxes' size, nearest first
   double mean_performance_percent = 0;
   size_t ground_points = 0;
-  double ground_sigma = 0;  // m, robust spread of the ground's heights about its plane
+  double ground_sigma = 0;  // m, robust spread of the ground's heights about the ground under them
 };
 
 // `truth_width` and `truth_length` are the boxes' true footprint (any order: width is the

@@ -44,6 +44,10 @@ struct GroundModelError {
   size_t points = 0;  // scored
   double rmse = NAN, median = NAN, p95 = NAN;  // m, of the height error (median and p95 of its size)
   double bias = NAN;                           // m, the mean signed error (+: the cloud lies high)
+  // The plane through the cloud's scored points against the plane through the true ground at
+  // the same places (least squares, dz/dx and dz/dy): does the cloud keep the terrain's tilt.
+  Eigen::Vector2d slope{NAN, NAN}, true_slope{NAN, NAN};
+  double slope_error = NAN;  // |slope - true_slope| / |true_slope|; NaN when the truth tilts under 1 %
 };
 GroundModelError ground_model_error(const std::vector<Eigen::Vector3f>& cloud,
                                     const std::function<std::optional<double>(const Eigen::Vector2d&)>& true_ground);

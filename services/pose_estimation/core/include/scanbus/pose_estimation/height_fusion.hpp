@@ -37,21 +37,29 @@
 
 namespace scanbus::pose_estimation {
 
+// The noise each default assumes comes from the sensors' data sheets and what flying does to
+// them (docs/architecture.md, "What the fusion's defaults assume"), never from the simulator's
+// settings, which model the world apart (services/mav_sim).
 struct FusionSettings {
   double window = 3.0;              // s of nodes kept in the problem
-  double baro_sigma = 0.3;          // m, white noise of one barometer altitude
+  double baro_sigma = 0.3;          // m, white noise of one barometer altitude: an MS5611 class
+                                    // sensor resolves 0.1 m; the propellers' wash and gusts add
+                                    // a few decimetres in flight
   double baro_gate_time = 10.0;     // s: a barometer altitude 5 sigma (its own and the
                                     // estimate's) off the estimate (a gust,
                                     // a door, a fault) is counted and left out, unless the
                                     // barometer has been that far off for this long: a shift
                                     // that persists is believed (the only absolute height)
-  double bias_random_walk = 0.02;   // m/sqrt(s): how fast the barometer's bias wanders
+  double bias_random_walk = 0.02;   // m/sqrt(s): how fast the barometer's bias wanders (the sensor
+                                    // warming in flight, the weather: decimetres over minutes)
   double bias_spacing = 1.0;        // s between bias states (linear in between)
-  double initial_bias_sigma = 0.05; // m: the barometer is referenced on the ground at the start
+  double initial_bias_sigma = 0.3;  // m: the barometer is referenced on the ground before take-off,
+                                    // then the spinning propellers and the ground effect shift it by
+                                    // decimetres (autopilots carry a ground-effect dead zone for it)
   double gps_wander_time = 30.0;    // s: a fix's altitude is off by the sigma the receiver
                                     // reports, an error correlated over this time
-  double change_sigma = 0.003;      // m, one scan-matcher height change (measured on the
-                                    // simulated flights: 2-3 mm between scans at 30 Hz)
+  double change_sigma = 0.003;      // m, one scan-matcher height change: hundreds of returns of a
+                                    // few centimetres' range noise each pin it to millimetres
   double change_loss = 0.005;       // m: Cauchy scale; far larger disagreements count little
   double change_gate = 0.05;        // m: a change this far from the previous accepted one (a
                                     // velocity jump of 1.5 m/s between scans at 30 Hz) is a
@@ -63,7 +71,8 @@ struct FusionSettings {
   double cell_size = 1.0;           // m between the elevation map's corners
   int min_cell_returns = 5;         // returns of one scan in a cell before it says where the ground is
   double clearance_sigma = 0.02;    // m, the depth of one cell's ground under one scan (the median
-                                    // return: laser noise, attitude, relief finer than a cell)
+                                    // of its returns: each of a few centimetres' range noise, moved
+                                    // by the attitude's few tenths of a degree; relief finer than a cell)
   double clearance_loss = 0.05;     // m: Cauchy scale; a box or a stone in a cell counts little
   double clearance_gate = 0.15;     // m: a cell's ground this far (or 5 sigma of the height) from
                                     // where the map puts it is a step or an edge inside the cell,
@@ -154,7 +163,7 @@ class HeightFusion {
                         Eigen::SparseMatrix<double>& H, Eigen::VectorXd& g) const;
 
   FusionSettings settings_;
-  std::map<long, double> states_;               // stable addresses for Ceres
+  std::map<long, double> states_;               // by state index
   long next_state_ = 0;
   Chain nodes_;                                 // heights
   Chain biases_;                                // the barometer's
