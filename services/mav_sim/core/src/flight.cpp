@@ -256,13 +256,21 @@ sensor_replay::MavLog simulate_flight(const FlightSettings& settings) {
   const Eigen::Vector3d velocity_sigma(s.noise.gps_velocity_horizontal, s.noise.gps_velocity_horizontal,
                                        s.noise.gps_velocity_vertical);
   const double dt = 1 / s.noise.gps_rate, decay = std::exp(-dt / s.noise.gps_velocity_time);
-  // Stationary standard deviation of the leaky integral of the velocity error.
-  const double wander_scale = std::sqrt(s.noise.gps_velocity_time * s.noise.gps_wander_time);
-  for (double t = 0; t < s.duration; t += dt) {
+  const auto wander_step = [&] {
     for (int axis = 0; axis < 3; ++axis) {
       velocity_error[axis] = decay * velocity_error[axis] + velocity_sigma[axis] * std::sqrt(1 - decay * decay) * gauss(random);
       wander[axis] += (velocity_error[axis] - wander[axis] / s.noise.gps_wander_time) * dt;
     }
+  };
+  // The receiver has been running before the flight: its wander starts as it is at any time.
+  const double settled = 5 * std::max(s.noise.gps_velocity_time, s.noise.gps_wander_time);
+  for (double t = 0; t < settled; t += dt) wander_step();
+  // The stationary standard deviation of the leaky integral x' = v - x / T of a velocity
+  // error v of correlation time tau: sigma_v T sqrt(tau / (tau + T)). The fix reports it.
+  const double tau = s.noise.gps_velocity_time, leak = s.noise.gps_wander_time;
+  const double wander_scale = leak * std::sqrt(tau / (tau + leak));
+  for (double t = 0; t < s.duration; t += dt) {
+    wander_step();
     const Eigen::Vector3d white(s.noise.gps_horizontal * gauss(random), s.noise.gps_horizontal * gauss(random),
                                 s.noise.gps_vertical * gauss(random));
     const Eigen::Vector3d measured = scenario_state(s, t).position + wander + white;

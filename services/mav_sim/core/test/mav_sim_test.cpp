@@ -278,3 +278,76 @@ TEST(MavLog, MalformedLinesAreNamed) {
   EXPECT_THROW(sensor_replay::read_mav_log(path), sensor_replay::MavLogError);
   EXPECT_THROW(sensor_replay::read_mav_log(path + ".missing"), sensor_replay::MavLogError);
 }
+
+namespace {
+
+// Altitude error of each barometer sample and vertical error of each fix against the truth.
+struct SensorErrors {
+  std::vector<double> barometer, gps_vertical;
+};
+SensorErrors sensor_errors(const FlightSettings& settings, const sensor_replay::MavLog& log) {
+  SensorErrors errors;
+  for (const auto& baro : log.baros) {
+    const double t = baro.stamp - settings.start_stamp;
+    errors.barometer.push_back(altitude_at_pressure(baro.pressure) - settings.origin.z() -
+                               scenario_state(settings, t).position.z());
+  }
+  for (const auto& fix : log.fixes) {
+    const double t = fix.stamp - settings.start_stamp;
+    errors.gps_vertical.push_back(fix.altitude - settings.origin.z() - scenario_state(settings, t).position.z());
+  }
+  return errors;
+}
+
+}  // namespace
+
+// The same draws at every scale: no errors at 0, twice the errors at 2 (the x0.5 / x2 sweeps
+// change the size of the errors, not which ones).
+TEST(Flight, EveryErrorScalesWithTheNoiseScale) {
+  FlightSettings settings;
+  settings.duration = 20;
+  settings.laser.rate = 1;
+  SensorErrors at[3];
+  for (int scale : {0, 1, 2}) {
+    settings.noise_scale = scale;
+    at[scale] = sensor_errors(settings, simulate_flight(settings));
+  }
+  for (size_t i = 0; i < at[1].barometer.size(); ++i) {
+    EXPECT_NEAR(at[0].barometer[i], 0, 1e-3);
+    EXPECT_NEAR(at[2].barometer[i], 2 * at[1].barometer[i], 2e-3);
+  }
+  for (size_t i = 0; i < at[1].gps_vertical.size(); ++i) {
+    EXPECT_NEAR(at[0].gps_vertical[i], 0, 1e-4);  // the altitude is not quite the local up
+    EXPECT_NEAR(at[2].gps_vertical[i], 2 * at[1].gps_vertical[i], 1e-4);
+  }
+  settings.noise_scale = 11;
+  EXPECT_THROW(simulate_flight(settings), std::invalid_argument);
+}
+
+// A receiver in each mode reports the sigma its vertical errors have (RMS over 8 ten-minute
+// flights within 0.7-1.3 of the reported sigma), from centimetres (RTK fixed) to metres.
+TEST(Flight, TheGpsReportsTheSigmaItsErrorsHave) {
+  const std::pair<GpsMode, std::pair<double, double>> modes[] = {
+      {GpsMode::rtk_fixed, {0.02, 0.06}}, {GpsMode::rtk_float, {0.3, 0.8}}, {GpsMode::standalone, {2.0, 6.0}}};
+  for (const auto& [mode, reported_range] : modes) {
+    double squares = 0, reported = 0;
+    size_t n = 0;
+    for (unsigned seed = 1; seed <= 8; ++seed) {
+      FlightSettings settings;
+      settings.scenario = 2;
+      settings.duration = 600;
+      settings.laser.rate = 0.1;
+      settings.seed = seed;
+      settings.noise = with_gps(settings.noise, mode);
+      const auto log = simulate_flight(settings);
+      for (double e : sensor_errors(settings, log).gps_vertical) squares += e * e, ++n;
+      reported = log.fixes.front().vertical_sigma;
+    }
+    const double rms = std::sqrt(squares / static_cast<double>(n));
+    std::printf("GPS mode %d: vertical error RMS %.3f m, reported sigma %.3f m\n", static_cast<int>(mode), rms, reported);
+    EXPECT_GT(reported, reported_range.first);
+    EXPECT_LT(reported, reported_range.second);
+    EXPECT_GT(rms / reported, 0.7);
+    EXPECT_LT(rms / reported, 1.3);
+  }
+}
