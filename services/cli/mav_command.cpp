@@ -36,6 +36,7 @@ struct FlightOptions {
   unsigned seed = 1;
   std::string gps = "rtk";
   double noise_scale = 1;   // every sensor error times this
+  std::string pattern = "paper";
   double laser_rate = 30;   // Hz, the paper's laser
   int laser_rays = 361;     // at 0.25 degrees: the paper's 90 degrees; 1,081 spans 270 (a Hokuyo UTM-30LX)
   std::string terrain;      // a YAML file with a `terrain` map; empty: flat, as in the paper
@@ -55,6 +56,10 @@ mav_sim::FlightSettings flight_settings(const FlightOptions& options) {
                                                              : mav_sim::GpsMode::rtk_fixed;
   settings.noise = mav_sim::with_gps(settings.noise, gps);
   settings.noise_scale = options.noise_scale;
+  settings.pattern = options.pattern == "lawnmower"    ? mav_sim::FlightPattern::lawnmower
+                     : options.pattern == "climb"      ? mav_sim::FlightPattern::climb
+                     : options.pattern == "hover-turn" ? mav_sim::FlightPattern::hover_turn
+                                                       : mav_sim::FlightPattern::paper;
   if (!options.terrain.empty()) {
     const Config file = Config::load(options.terrain);
     if (!file.has("terrain")) file.missing("terrain");
@@ -74,6 +79,10 @@ void add_flight_options(CLI::App& command, FlightOptions& options) {
   command.add_option("--gps", options.gps, "GPS receiver's mode: rtk (fixed, centimetres), float (RTK float, "
                      "decimetres) or standalone (metres of wander)")
       ->check(CLI::IsMember({"rtk", "float", "standalone"}));
+  command.add_option("--pattern", options.pattern, "How the MAV flies over the scenario's ground: paper (the "
+                     "scenario's own motion), lawnmower (four lanes 1.5 m apart), climb (passes climbing and "
+                     "descending 1.5 m), hover-turn (turning on the spot)")
+      ->check(CLI::IsMember({"paper", "lawnmower", "climb", "hover-turn"}));
   command.add_option("--noise-scale", options.noise_scale, "Every simulated sensor error times this (0.5, 2: what "
                      "the fusion does when the real noise is half or twice what its defaults assume)")
       ->check(CLI::Range(0.0, 10.0));

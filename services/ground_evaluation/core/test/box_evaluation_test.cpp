@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <random>
 
 #include "scanbus/ground_evaluation/box_evaluation.hpp"
@@ -12,8 +13,12 @@ namespace {
 // Ground from 1..7 x -1.5..1.5, 10,000 points a square metre drawn uniformly (about what
 // fifteen passes of the MAV's laser leave), with boxes
 // (length along their yaw) raising the points on their tops; 1 cm noise.
+// `ground` under the scene (level by default) over `extent` (x from, x to, half width in y);
+// a box's top is level, `size.z()` above the ground under its centre.
 std::vector<Eigen::Vector3f> scene(const std::vector<std::pair<Eigen::Vector3d, double>>& boxes,
-                                   const Eigen::Vector3d& size, double noise) {
+                                   const Eigen::Vector3d& size, double noise,
+                                   const std::function<double(double, double)>& ground = [](double, double) { return 0.0; },
+                                   const Eigen::Vector3d& extent = {1, 7, 1.5}) {
   std::mt19937 random(7);
   std::normal_distribution<double> gauss(0, noise);
   std::vector<Eigen::Vector3f> cloud;
@@ -21,12 +26,13 @@ std::vector<Eigen::Vector3f> scene(const std::vector<std::pair<Eigen::Vector3d, 
     const Eigen::Vector2d local = Eigen::Rotation2Dd(-yaw) * Eigen::Vector2d(x - centre.x(), y - centre.y());
     return std::abs(local.x()) <= size.x() / 2 && std::abs(local.y()) <= size.y() / 2;
   };
-  std::uniform_real_distribution<double> along(1, 7), across(-1.5, 1.5);
-  for (int i = 0; i < 180000; ++i) {
+  std::uniform_real_distribution<double> along(extent.x(), extent.y()), across(-extent.z(), extent.z());
+  const int points = static_cast<int>(10000 * (extent.y() - extent.x()) * 2 * extent.z());
+  for (int i = 0; i < points; ++i) {
     const double x = along(random), y = across(random);
-    double z = 0;
+    double z = ground(x, y);
     for (const auto& [centre, yaw] : boxes)
-      if (inside(x, y, centre, yaw)) z = size.z();
+      if (inside(x, y, centre, yaw)) z = ground(centre.x(), centre.y()) + size.z();
     cloud.emplace_back(x + gauss(random), y + gauss(random), z + gauss(random));
   }
   return cloud;
@@ -64,6 +70,31 @@ TEST(BoxEvaluation, TwoBoxesOnTheGroundGiveTheirRatio) {
     EXPECT_GT(box.performance_percent, 98.0);
   }
   EXPECT_NEAR(result.ratio_actual, 0.4 / 0.6, 1e-12);
+}
+
+// On issue 19's development terrain (a 3 degree slope, a 0.4 m mound beside the boxes, a
+// ditch and a step) the boxes stand out of the ground under them: one plane through the
+// whole ground made the mound's flanks into "boxes".
+TEST(BoxEvaluation, BoxesOnASlopeWithAMoundAreFound) {
+  const auto bump = [](double x, double y, double cx, double cy, double radius, double height) {
+    const double r = std::hypot(x - cx, y - cy);
+    return r < radius ? height * (1 + std::cos(M_PI * r / radius)) / 2 : 0.0;
+  };
+  const auto terrain = [&](double x, double y) {
+    return 0.052 * x + bump(x, y, 6, 0.5, 3, 0.4) + bump(x, y, 2, -1, 1, -0.25) + (x > 8.5 ? 0.15 : 0.0);
+  };
+  const Eigen::Vector3d size(0.6, 0.4, 0.3);
+  const auto cloud = scene({{{4, -0.45, 0}, 0.0}, {{4, 0.45, 0}, 0.0}}, size, 0.01, terrain, {-2, 11, 3});
+  const BoxEvaluation result = evaluate_boxes(cloud, 0.4, 0.6);
+  ASSERT_TRUE(result.ok) << result.message;
+  for (const auto& box : result.boxes) {
+    std::printf("box at (%.3f, %.3f): %.4f x %.4f m, P %.2f %%\n", box.centre.x(), box.centre.y(), box.length,
+                box.width, box.performance_percent);
+    EXPECT_NEAR(box.centre.x(), 4, 0.02);
+    EXPECT_NEAR(std::abs(box.centre.y()), 0.45, 0.02);
+    EXPECT_NEAR(box.length, 0.6, 0.01);
+    EXPECT_NEAR(box.width, 0.4, 0.01);
+  }
 }
 
 TEST(BoxEvaluation, WhatIsMissingIsSaid) {

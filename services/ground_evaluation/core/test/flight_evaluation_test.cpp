@@ -121,6 +121,27 @@ TEST(FlightEvaluation, TheGroundModelIsScoredAgainstTheSimulatedGround) {
   EXPECT_FALSE(evaluate_flight(log, {}).has_ground);
 }
 
+// Scenario IV over a slope with a mound beside the boxes: the boxes are found on the ground
+// under them and measured, in their tops, to centimetres.
+TEST(FlightEvaluation, TheBoxesAreFoundOnSlopedGround) {
+  mav_sim::FlightSettings settings;
+  settings.scenario = 4;
+  settings.duration = 48;  // two rounds over the boxes
+  settings.terrain.slope = {0.052, 0};
+  settings.terrain.mounds = {{{6, 0.5}, 3, 0.4}, {{2, -1}, 1, -0.25}};
+  settings.terrain.roughness = 0.02;
+  const FlightEvaluation result = evaluate_flight(mav_sim::simulate_flight(settings), {});
+  const BoxEvaluation& boxes = result.boxes[static_cast<int>(HeightSource::Fused)];
+  ASSERT_TRUE(boxes.ok) << boxes.message;
+  for (const auto& box : boxes.boxes) {
+    std::printf("box at (%.3f, %.3f): %.3f x %.3f m\n", box.centre.x(), box.centre.y(), box.length, box.width);
+    EXPECT_NEAR(box.centre.x(), 4, 0.05);
+    EXPECT_NEAR(std::abs(box.centre.y()), 0.45, 0.05);
+    EXPECT_NEAR(box.length, 0.6, 0.02);
+    EXPECT_NEAR(box.width, 0.4, 0.02);
+  }
+}
+
 TEST(FlightEvaluation, ALogWithoutItsMountOrTruthIsNamed) {
   mav_sim::FlightSettings settings;
   settings.duration = 1;

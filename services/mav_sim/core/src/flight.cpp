@@ -5,6 +5,7 @@
 #include "scanbus/atmosphere.hpp"
 #include "scanbus/transforms/transform_buffer.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -24,7 +25,39 @@ double wave(double amplitude, double period, double t, double phase = 0) {
   return amplitude * std::sin(2 * M_PI * t / period + phase);
 }
 
+// The lane of a lawnmower pattern after `passes` passes: 0, 1, 2, 3, 3, 2, 1, 0, 0, 1 ...
+// The MAV moves to the next lane in the second around the end of a pass, where it nearly
+// stands still along x (a smooth path: the attitude follows from its acceleration).
+double lane(double passes) {
+  constexpr long kLanes = 4;
+  constexpr double kTurn = 0.05;  // of a pass, each side of its end
+  const auto lane_of = [](long pass) {
+    const long k = std::max(pass, 0L) % (2 * kLanes);
+    return static_cast<double>(k < kLanes ? k : 2 * kLanes - 1 - k);
+  };
+  const long end = std::lround(passes);
+  const double from_end = passes - static_cast<double>(end);
+  if (std::abs(from_end) >= kTurn) return lane_of(static_cast<long>(std::floor(passes)));
+  const double eased = (1 - std::cos(M_PI * (from_end + kTurn) / (2 * kTurn))) / 2;
+  return lane_of(end - 1) + (lane_of(end) - lane_of(end - 1)) * eased;
+}
+
+Eigen::Vector3d pattern_position(const FlightSettings& s, double t) {
+  const double h = s.height;
+  switch (s.pattern) {
+    case FlightPattern::lawnmower:
+      return {5 - 5 * std::cos(M_PI * t / 20), 1.5 * lane(t / 20) - 2.25, h + wave(0.1, 23, t)};
+    case FlightPattern::climb:
+      return {5 - 5 * std::cos(2 * M_PI * t / 20), wave(0.3, 37, t), h + wave(1.5, 90, t)};
+    case FlightPattern::hover_turn:
+      return {4 + wave(0.1, 17, t), wave(0.1, 13, t, 1), h + wave(0.1, 11, t)};
+    case FlightPattern::paper: break;
+  }
+  return Eigen::Vector3d::Zero();
+}
+
 Eigen::Vector3d scenario_position(const FlightSettings& s, double t) {
+  if (s.pattern != FlightPattern::paper) return pattern_position(s, t);
   const double h = s.height;
   switch (s.scenario) {
     case 1:  // 10 m forward and back, 20 s a round, gently changing height
@@ -41,6 +74,8 @@ Eigen::Vector3d scenario_position(const FlightSettings& s, double t) {
 // Roll, pitch and yaw added to what the acceleration needs: wind gusts (II), a hand's
 // unsteadiness (III).
 Eigen::Vector3d scenario_disturbance(const FlightSettings& s, double t) {
+  if (s.pattern == FlightPattern::hover_turn) return {0, 0, std::remainder(2 * M_PI * t / 18, 2 * M_PI)};
+  if (s.pattern != FlightPattern::paper) return {0, 0, wave(0.05, 50, t)};
   switch (s.scenario) {
     case 1: return {0, 0, wave(0.05, 50, t)};
     case 2: return {(wave(12, 2.0, t) + wave(5, 0.77, t, 0.7)) * kDegree, wave(3, 2.5, t) * kDegree, wave(0.3, 40, t)};

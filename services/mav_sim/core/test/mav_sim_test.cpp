@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 #include <random>
+#include <set>
 
 #include "scanbus/atmosphere.hpp"
 #include "scanbus/config.hpp"
@@ -350,4 +351,40 @@ TEST(Flight, TheGpsReportsTheSigmaItsErrorsHave) {
     EXPECT_GT(rms / reported, 0.7);
     EXPECT_LT(rms / reported, 1.3);
   }
+}
+
+// The survey patterns: the lawnmower visits its four lanes on a smooth path (the tilt that
+// follows from its acceleration stays that of gentle flight), the climb spans 3 m of
+// height, the hover turns about the vertical once in 18 s.
+TEST(Flight, PatternsFlyTheirPaths) {
+  FlightSettings settings;
+  settings.pattern = FlightPattern::lawnmower;
+  std::set<long> lanes;
+  double steepest = 0;
+  for (double t = 0; t < 180; t += 0.05) {
+    const BodyState state = scenario_state(settings, t);
+    lanes.insert(std::lround((state.position.y() + 2.25) / 1.5 * 100));  // hundredths of a lane
+    const Eigen::Vector3d up = state.orientation * Eigen::Vector3d::UnitZ();
+    steepest = std::max(steepest, std::acos(up.z()) * 180 / M_PI);
+  }
+  for (long lane : {0L, 100L, 200L, 300L}) EXPECT_TRUE(lanes.count(lane)) << "lane " << lane / 100;
+  EXPECT_LT(steepest, 15.0);
+  settings.pattern = FlightPattern::climb;
+  double low = INFINITY, high = -INFINITY;
+  for (double t = 0; t < 180; t += 0.5) {
+    low = std::min(low, scenario_state(settings, t).position.z());
+    high = std::max(high, scenario_state(settings, t).position.z());
+  }
+  EXPECT_NEAR(high - low, 3.0, 0.05);
+  settings.pattern = FlightPattern::hover_turn;
+  const auto yaw = [&](double t) {
+    const Eigen::Vector3d forward = scenario_state(settings, t).orientation * Eigen::Vector3d::UnitX();
+    return std::atan2(forward.y(), forward.x());
+  };
+  EXPECT_NEAR(std::remainder(yaw(4.5) - yaw(0), 2 * M_PI), M_PI / 2, 0.05);
+  EXPECT_NO_THROW(simulate_flight([&] {
+    FlightSettings short_flight = settings;
+    short_flight.duration = 2;
+    return short_flight;
+  }()));
 }

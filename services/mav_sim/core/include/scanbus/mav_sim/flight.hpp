@@ -75,8 +75,18 @@ struct SensorNoise {
 // `noise` with the GPS part of a receiver in `mode`.
 SensorNoise with_gps(SensorNoise noise, GpsMode mode);
 
+// How the MAV moves over the scenario's ground: the paper's own motion for each scenario,
+// or a survey pattern over the same ground.
+enum class FlightPattern {
+  paper,       // the scenario's motion (I forward and back, II hover in wind, III by hand, IV over the boxes)
+  lawnmower,   // passes 10 m long along x, 20 s each, on four lanes 1.5 m apart (y -2.25 to 2.25 m), and back
+  climb,       // scenario I's passes while climbing and descending 1.5 m over 90 s
+  hover_turn,  // hovering over (4, 0) and turning about the vertical, a full turn in 18 s
+};
+
 struct FlightSettings {
   int scenario = 1;                      // 1..4 as in the paper
+  FlightPattern pattern = FlightPattern::paper;
   double duration = 180;                 // s (scenario I: about 3 minutes)
   double height = 3.0;                   // m above the ground at the map origin, on average (the MAV holds
                                          // its altitude: over a terrain its clearance changes)
