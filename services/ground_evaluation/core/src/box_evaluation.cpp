@@ -90,14 +90,15 @@ double bounding_area(const std::vector<Eigen::Vector2d>& points, double yaw) {
   return (high_u - low_u) * (high_v - low_v);
 }
 
-// The plane with most inliers among near-horizontal ones (z up), RANSAC; on centred
-// coordinates (RANSAC is unstable far from the origin).
-bool fit_ground(const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud, double threshold, Eigen::Vector4d& plane) {
+// The plane with most inliers among those within `tilt` (degrees) of horizontal, RANSAC, its
+// normal up; on centred coordinates (RANSAC is unstable far from the origin).
+bool fit_ground(const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud, double threshold, Eigen::Vector4d& plane,
+                double tilt = 15, pcl::PointIndices* inliers_out = nullptr) {
   pcl::SACSegmentation<pcl::PointXYZ> segmentation;
   segmentation.setModelType(pcl::SACMODEL_PERPENDICULAR_PLANE);
   segmentation.setMethodType(pcl::SAC_RANSAC);
   segmentation.setAxis(Eigen::Vector3f::UnitZ());
-  segmentation.setEpsAngle(15 * M_PI / 180);
+  segmentation.setEpsAngle(tilt * M_PI / 180);
   segmentation.setDistanceThreshold(threshold);
   segmentation.setMaxIterations(500);
   segmentation.setInputCloud(cloud);
@@ -105,6 +106,7 @@ bool fit_ground(const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud, double thresho
   pcl::ModelCoefficients coefficients;
   segmentation.segment(inliers, coefficients);
   if (inliers.indices.empty() || coefficients.values.size() != 4) return false;
+  if (inliers_out) *inliers_out = std::move(inliers);
   plane = Eigen::Vector4d(coefficients.values[0], coefficients.values[1], coefficients.values[2], coefficients.values[3]);
   plane /= plane.head<3>().norm();
   if (plane.z() < 0) plane = -plane;  // height above it is positive
@@ -222,23 +224,13 @@ Top top_of(const pcl::PointCloud<pcl::PointXYZ>& above, const pcl::PointIndices&
     const Eigen::Vector3d p = above[static_cast<size_t>(index)].getVector3fMap().cast<double>() - top.origin;
     points->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
   }
-  pcl::SACSegmentation<pcl::PointXYZ> segmentation;
-  segmentation.setModelType(pcl::SACMODEL_PERPENDICULAR_PLANE);
-  segmentation.setMethodType(pcl::SAC_RANSAC);
-  segmentation.setAxis(Eigen::Vector3f::UnitZ());
-  segmentation.setEpsAngle(20 * M_PI / 180);
-  segmentation.setDistanceThreshold(band);
-  segmentation.setMaxIterations(200);
-  segmentation.setInputCloud(points);
+  Eigen::Vector4d plane;
   pcl::PointIndices inliers;
-  pcl::ModelCoefficients coefficients;
-  segmentation.segment(inliers, coefficients);
-  if (coefficients.values.size() != 4) return top;
-  Eigen::Vector3d normal(coefficients.values[0], coefficients.values[1], coefficients.values[2]);
-  normal.normalize();
+  if (!fit_ground(points, band, plane, 20, &inliers)) return top;
+  const Eigen::Vector3d normal = plane.head<3>();
   // Axes in the top: e1 under x, e2 under y (a level top keeps the map's axes).
   top.e1 = (Eigen::Vector3d::UnitX() - normal.x() * normal).normalized();
-  top.e2 = normal.cross(top.e1) * (normal.z() < 0 ? -1 : 1);
+  top.e2 = normal.cross(top.e1);
   for (int inlier : inliers.indices) {
     const Eigen::Vector3d p = (*points)[static_cast<size_t>(inlier)].getVector3fMap().cast<double>();
     top.points.emplace_back(p.dot(top.e1), p.dot(top.e2));

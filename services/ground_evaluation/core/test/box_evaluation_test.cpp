@@ -73,8 +73,9 @@ TEST(BoxEvaluation, TwoBoxesOnTheGroundGiveTheirRatio) {
 }
 
 // On issue 19's development terrain (a 3 degree slope, a 0.4 m mound beside the boxes, a
-// ditch and a step) the boxes stand out of the ground under them: one plane through the
-// whole ground made the mound's flanks into "boxes".
+// ditch and a step) the boxes stand out of the ground under them and are measured in their
+// tops. (In a simulated flight's cloud over it, one plane through the whole ground found
+// strips of the ground as "boxes"; this clean cloud does not show that.)
 TEST(BoxEvaluation, BoxesOnASlopeWithAMoundAreFound) {
   const auto bump = [](double x, double y, double cx, double cy, double radius, double height) {
     const double r = std::hypot(x - cx, y - cy);
