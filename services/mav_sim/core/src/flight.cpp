@@ -107,17 +107,17 @@ void validate(const FlightSettings& s) {
 
 SensorNoise with_gps(SensorNoise noise, GpsMode mode) {
   switch (mode) {
-    case GpsMode::rtk_fixed:  // 1 cm jitter, under 2 cm (horizontal) and 4 cm (vertical) of wander
+    case GpsMode::rtk_fixed:  // 1 cm jitter, about 1.5 cm (horizontal) and 3 cm (vertical) of wander
       noise.gps_horizontal = 0.01, noise.gps_vertical = 0.02;
       noise.gps_velocity_horizontal = 0.0005, noise.gps_velocity_vertical = 0.001;
       noise.gps_wander_time = 60;
       break;
-    case GpsMode::rtk_float:  // about 0.25 m (horizontal) and 0.5 m (vertical) of wander
+    case GpsMode::rtk_float:  // about 0.23 m (horizontal) and 0.45 m (vertical) of wander
       noise.gps_horizontal = 0.05, noise.gps_vertical = 0.1;
       noise.gps_velocity_horizontal = 0.005, noise.gps_velocity_vertical = 0.01;
       noise.gps_wander_time = 120;
       break;
-    case GpsMode::standalone:  // about 1.5 m (horizontal) and 3.9 m (vertical) of wander
+    case GpsMode::standalone:  // about 1.5 m (horizontal) and 3.8 m (vertical) of wander
       noise.gps_horizontal = 0.02, noise.gps_vertical = 0.05;
       noise.gps_velocity_horizontal = 0.02, noise.gps_velocity_vertical = 0.05;
       noise.gps_wander_time = 300;
