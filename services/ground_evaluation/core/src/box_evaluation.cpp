@@ -267,21 +267,21 @@ BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double t
   }
   // A cloud built over several passes has a ground as thick as the heights' errors between
   // passes: objects start above that (four robust sigmas of the ground's heights).
+  std::vector<std::optional<double>> above_ground(centred->size());  // each point's, looked up once
+  for (size_t i = 0; i < centred->size(); ++i) above_ground[i] = ground.height_above((*centred)[i]);
   std::vector<double> near_ground;
-  for (const auto& p : *centred) {
-    const auto height = ground.height_above(p);
+  for (const auto& height : above_ground)
     if (height && std::abs(*height) < 2 * settings.min_height) near_ground.push_back(std::abs(*height));
-  }
   const auto middle = near_ground.begin() + static_cast<long>(near_ground.size() / 2);
   std::nth_element(near_ground.begin(), middle, near_ground.end());
   result.ground_sigma = near_ground.empty() ? 0 : 1.4826 * *middle;
   const double min_height = std::max(settings.min_height, 4 * result.ground_sigma);
   pcl::PointCloud<pcl::PointXYZ>::Ptr above(new pcl::PointCloud<pcl::PointXYZ>);
   std::vector<double> heights;
-  for (const auto& p : *centred) {
-    const double height = ground.height_above(p).value_or(0);  // ground not known: not an object
+  for (size_t i = 0; i < centred->size(); ++i) {
+    const double height = above_ground[i].value_or(0);  // ground not known: not an object
     if (height > min_height) {
-      above->push_back(p);
+      above->push_back((*centred)[i]);
       heights.push_back(height);
     } else if (std::abs(height) <= settings.ground_threshold) {
       ++result.ground_points;
