@@ -115,8 +115,8 @@ bool fit_ground(const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud, double thresho
 
 // The ground under each point, so the boxes stand out of a slope or a mound as they do out
 // of a level floor: a plane for every `kCell` cell, fitted (fit_ground) to the points of
-// the cell and its eight neighbours, where the boxes are a minority (two 0.6 x 0.4 m boxes
-// fill at most a third of the 1.5 m square) and fall out as outliers.
+// the 2.5 m square around it (kReach cells each way), where the boxes are a minority (two
+// 0.6 x 0.4 m boxes fill under a tenth of it) and fall out as outliers.
 class LocalGround {
  public:
   LocalGround(const pcl::PointCloud<pcl::PointXYZ>& cloud, double threshold) {
