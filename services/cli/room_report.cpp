@@ -11,7 +11,7 @@ nlohmann::json room_json(const RoomResult& room) {
   nlohmann::json walls = nlohmann::json::array();
   for (const auto& wall : room.walls) {
     nlohmann::json openings = nlohmann::json::array();
-    for (const auto& o : wall.openings) openings.push_back({{"start_m", o.start}, {"width_m", o.width}});
+    for (const auto& o : wall.openings) openings.push_back({{"start_m", o.start}, {"width_m", o.width}, {"depth_m", o.depth}});
     walls.push_back({{"length_m", wall.length},
                      {"inferred", wall.inferred()},
                      {"length_sigma_m", wall.length_sigma},
@@ -76,6 +76,10 @@ std::string room_text(const RoomResult& room) {
     for (const auto& o : wall.openings) {
       std::snprintf(line, sizeof(line), "; opening %.2f m wide at %.2f m", o.width, o.start);
       text += line;
+      if (o.depth > 0) {
+        std::snprintf(line, sizeof(line), ", seen %.2f m through", o.depth);
+        text += line;
+      }
     }
     text += ")\n";
   }

@@ -112,7 +112,7 @@ void to_json(json& out, const ScanMatch& in) {
          {"correspondences", in.correspondences()}, {"residual", in.residual()},
          {"keyframe", in.keyframe()}};
 }
-void to_json(json& out, const Opening& in) { out = {{"start", in.start()}, {"width", in.width()}}; }
+void to_json(json& out, const Opening& in) { out = {{"start", in.start()}, {"width", in.width()}, {"depth", in.depth()}}; }
 void to_json(json& out, const Wall& in) {
   out = {{"plane", in.plane()},
          {"length", in.length()},

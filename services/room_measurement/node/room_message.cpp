@@ -31,6 +31,7 @@ scanbus::msg::RoomMeasurement to_message(const RoomResult& result, const std::st
       scanbus::msg::Opening o;
       o.start(opening.start);
       o.width(opening.width);
+      o.depth(opening.depth);
       out.openings().push_back(o);
     }
     message.walls().push_back(out);
@@ -72,7 +73,7 @@ RoomResult from_message(const scanbus::msg::RoomMeasurement& message) {
     out.length = wall.length();
     out.length_sigma = wall.length_uncertainty();
     out.points = wall.inliers();
-    for (const auto& o : wall.openings()) out.openings.push_back({o.start(), o.width()});
+    for (const auto& o : wall.openings()) out.openings.push_back({o.start(), o.width(), o.depth()});
     room.walls.push_back(out);
   }
   for (const auto& corner : message.corners()) room.corners.emplace_back(corner.x(), corner.y());
