@@ -54,6 +54,11 @@ nlohmann::json summary_json(const room_evaluation::SweepSummary& s) {
                         {"max_area_error", s.max_area_error},
                         {"walls_within_1_sigma", s.within_1_sigma},
                         {"walls_within_2_sigma", s.within_2_sigma},
+                        {"true_openings", s.true_openings},
+                        {"openings_found", s.openings_found},
+                        {"spurious_openings", s.spurious_openings},
+                        {"median_opening_error_m", s.median_opening_error},
+                        {"max_opening_error_m", s.max_opening_error},
                         {"worst_ceiling_error_m", nullptr}};
   if (s.worst_ceiling_error) out["worst_ceiling_error_m"] = *s.worst_ceiling_error;
   return out;
@@ -62,6 +67,9 @@ nlohmann::json summary_json(const room_evaluation::SweepSummary& s) {
 nlohmann::json case_json(const room_evaluation::RoomCase& c) {
   nlohmann::json walls = nlohmann::json::array();
   for (const auto& w : c.walls) walls.push_back({{"true_m", w.true_length}, {"measured_m", w.length}, {"sigma_m", w.sigma}});
+  nlohmann::json openings = nlohmann::json::array();
+  for (const auto& o : c.openings)
+    openings.push_back({{"true_m", {o.true_from, o.true_to}}, {"found", o.found}, {"measured_m", {o.from, o.to}}});
   nlohmann::json out = {{"category", sim::category_name(c.category)},
                         {"seed", c.seed},
                         {"true_walls", c.true_walls},
@@ -71,6 +79,8 @@ nlohmann::json case_json(const room_evaluation::RoomCase& c) {
                         {"message", c.message},
                         {"verdict", room_evaluation::verdict_name(c.verdict)},
                         {"walls", walls},
+                        {"openings", openings},
+                        {"spurious_openings", c.spurious_openings},
                         {"true_area_m2", c.true_area},
                         {"area_m2", c.area},
                         {"area_sigma_m2", c.area_sigma},
@@ -93,6 +103,13 @@ void print_table(const std::vector<room_evaluation::SweepSummary>& summaries) {
   std::printf("seen: every wall in view; ok: measured with the right walls, all seen; target: every wall within 1 cm and the "
               "area within 0.5 %%;\ninfer: right walls, some not seen but inferred (errors and sigmas counted); >2cm: ok with a wall more than 2 cm off or wrong walls; refused: right/wrongly "
               "(a room in view); errors over matched walls; 1sig/2sig: walls within 1 and 2 sigma\n");
+  std::printf("\n%-15s %11s %9s %15s %12s\n", "openings", "found/true", "spurious", "median_edge_m", "max_edge_m");
+  for (const auto& s : summaries)
+    if (s.true_openings + s.spurious_openings > 0)
+      std::printf("%-15s %5zu/%-5zu %9zu %15.3f %12.3f\n", s.category.c_str(), s.openings_found, s.true_openings,
+                  s.spurious_openings, s.median_opening_error, s.max_opening_error);
+  std::printf("on the walls of rooms measured or inferred; found: a measured opening covers at least half of the true one; "
+              "edge: the farther of its two ends from the true one's\n");
 }
 
 int run_eval_rooms(const EvalRoomsOptions& options) {

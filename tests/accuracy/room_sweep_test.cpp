@@ -18,9 +18,10 @@ TEST(RoomSweep, WhatHoldsOnTheSweep) {
   ASSERT_EQ(cases.size(), 120u);
   for (const auto& s : room_evaluation::summarize(cases)) {
     std::printf("%-15s rooms %zu seen %zu measured %zu inferred %zu wrong %zu refused %zu/%zu median %.4f p95 %.4f max %.4f m, "
-                "%.0f %% within 1 sigma, %.0f %% within 2\n",
+                "%.0f %% within 1 sigma, %.0f %% within 2, openings %zu/%zu (%zu spurious, median edge %.3f m)\n",
                 s.category.c_str(), s.rooms, s.measurable, s.measured, s.inferred, s.wrong, s.refused, s.refused_wrongly,
-                s.median_wall_error, s.p95_wall_error, s.max_wall_error, 100 * s.within_1_sigma, 100 * s.within_2_sigma);
+                s.median_wall_error, s.p95_wall_error, s.max_wall_error, 100 * s.within_1_sigma, 100 * s.within_2_sigma,
+                s.openings_found, s.true_openings, s.spurious_openings, s.median_opening_error);
     // Closed rooms, rooms with windows or angled walls, a scanner in a corner: every one measured.
     if (s.category == "box" || s.category == "windows" || s.category == "angled" || s.category == "near_wall") {
       EXPECT_EQ(s.measured, s.rooms) << s.category;
@@ -44,6 +45,11 @@ TEST(RoomSweep, WhatHoldsOnTheSweep) {
     EXPECT_GE(s.within_1_sigma, 0.60);
     EXPECT_LE(s.within_1_sigma, 0.75);
     EXPECT_GE(s.within_2_sigma, 0.93);
+    // Doors and windows on the measured walls: found (a door's header, a window's sill and
+    // lintel do not hide them), their ends placed, nothing taken for one that is not.
+    EXPECT_GE(s.openings_found, 0.9 * s.true_openings) << s.openings_found << " of " << s.true_openings;
+    EXPECT_LE(s.spurious_openings, 1u);
+    EXPECT_LT(s.median_opening_error, 0.015);
   }
   double worst_seen = 0;  // rooms whose every wall was seen (inferred rooms' walls hold only by their sigmas)
   for (const auto& c : cases)

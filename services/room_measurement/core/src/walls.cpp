@@ -26,6 +26,19 @@ double percentile(std::vector<double> values, double fraction) {
   return values[index];
 }
 
+// The sampling step among sorted positions: the median gap between distinct ones (revolutions
+// sampling the same direction stack their returns within a centimetre), over at most
+// `max_gaps` gaps counted back from `last`.
+double sampling_step(const std::vector<double>& sorted, size_t last, size_t max_gaps) {
+  constexpr double kDistinct = 0.01;  // m
+  std::vector<double> gaps;
+  for (size_t i = last; i > 0 && i < sorted.size() && gaps.size() < max_gaps; --i)
+    if (sorted[i] - sorted[i - 1] > kDistinct) gaps.push_back(sorted[i] - sorted[i - 1]);
+  if (gaps.empty()) return kDistinct;
+  std::nth_element(gaps.begin(), gaps.begin() + static_cast<long>(gaps.size() / 2), gaps.end());
+  return gaps[gaps.size() / 2];
+}
+
 // Share of `slot`-wide slots between low and high that hold at least one value.
 double coverage(const std::vector<double>& values, double low, double high, double slot) {
   const int slots = std::max(1, static_cast<int>(std::ceil((high - low) / slot)));
@@ -161,7 +174,6 @@ WallLine infer_hidden_wall(const WallLine& before, const WallLine& after, double
 WallEnd wall_end(const WallLine& wall, double near, bool at_end, const std::vector<Eigen::Vector3f>& points, double band,
                  double max_gap) {
   constexpr size_t kLast = 10;        // gaps whose median tells how finely the end is sampled
-  constexpr double kDistinct = 0.01;  // m: closer points are one sample position
   constexpr double kBack = 0.3;    // m inside `near` the walk starts (not from the wall's middle: a
                                    // door on the way would stop it, and one line may hold two walls)
   const double sign = at_end ? 1 : -1;
@@ -185,16 +197,8 @@ WallEnd wall_end(const WallLine& wall, double near, bool at_end, const std::vect
     end.spacing = max_gap;
     return end;
   }
-  // The sampling step there: the gaps between distinct positions (revolutions sampling the same
-  // yaws stack their points). The last sample falls short of the true end by up to a step.
-  std::vector<double> gaps;
-  for (size_t i = last; i > 0 && gaps.size() < kLast; --i)
-    if (along[i] - along[i - 1] > kDistinct) gaps.push_back(along[i] - along[i - 1]);
-  end.spacing = kDistinct;
-  if (!gaps.empty()) {
-    std::nth_element(gaps.begin(), gaps.begin() + static_cast<long>(gaps.size() / 2), gaps.end());
-    end.spacing = gaps[gaps.size() / 2];
-  }
+  // The last sample falls short of the true end by up to a sampling step.
+  end.spacing = sampling_step(along, last, kLast);
   end.along = start + sign * along[last];
   return end;
 }
@@ -433,12 +437,16 @@ std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimi
 std::vector<Opening> find_openings(const WallLine& wall, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                                    const std::vector<Eigen::Vector3f>& points, double band, double beyond, double min_width) {
   constexpr double kSlot = 0.05;  // m
+  constexpr double kCell = 0.1;   // m of height: a door's header and a window's sill hold points on
+  constexpr int kCells = 64;      // the line at other heights than what is seen through the gap
   const double length = (b - a).norm();
   if (!(length >= kSlot)) return {};
   const Eigen::Vector2d along = (b - a) / length;
   const auto slots = static_cast<size_t>(std::ceil(length / kSlot));
-  std::vector<int> on(slots, 0), past(slots, 0);
+  const double base = wall.z_low - 0.5;
+  std::vector<int> on(slots * kCells, 0), past(slots * kCells, 0);  // per slot and height cell
   std::vector<std::vector<double>> depths(slots);  // past the line, at the wall's middle heights
+  std::vector<std::vector<double>> passing(slots);  // where returns pass the line
   const double middle_low = wall.z_low + 0.3, middle_high = wall.z_high - 0.3;
   for (const auto& p : points) {
     const Eigen::Vector2d xy = p.head<2>().cast<double>();
@@ -448,24 +456,46 @@ std::vector<Opening> find_openings(const WallLine& wall, const Eigen::Vector2d& 
     const double s = along.dot(crossing.head<2>() - a);
     if (!(s >= 0 && s < length)) continue;
     const auto slot = std::min(slots - 1, static_cast<size_t>(s / kSlot));
-    if (distance <= band) ++on[slot];
+    const size_t cell = slot * kCells + static_cast<size_t>(std::clamp((crossing.z() - base) / kCell, 0.0, kCells - 1.0));
+    if (distance <= band) ++on[cell];
     if (distance <= beyond) continue;
-    ++past[slot];
+    ++past[cell];
+    passing[slot].push_back(s);
     if (crossing.z() > middle_low && crossing.z() < middle_high) depths[slot].push_back(distance);
+  }
+  // A slot is open where more returns pass the line than stop on it at the heights they pass.
+  std::vector<bool> open(slots, false);
+  for (size_t slot = 0; slot < slots; ++slot) {
+    int passing = 0, stopping = 0;
+    for (size_t cell = slot * kCells; cell < (slot + 1) * kCells; ++cell)
+      if (past[cell] > 0) {
+        passing += past[cell];
+        stopping += on[cell];
+      }
+    open[slot] = passing > stopping;
   }
   std::vector<Opening> openings;
   for (size_t i = 0; i < slots;) {
-    if (past[i] <= on[i]) {
+    if (!open[i]) {
       ++i;
       continue;
     }
     size_t j = i;
-    while (j < slots && past[j] > on[j]) ++j;
-    const double width = (j - i) * kSlot;
-    if (width >= min_width) {
+    while (j < slots && open[j]) ++j;
+    // Its ends where the outermost returns pass, in the open slots or the closed ones beside them
+    // (a jamb falls anywhere in a slot), moved out by half the sampling step: the outermost
+    // return falls short of the jamb by up to a step.
+    std::vector<double> through;
+    for (size_t k = i > 0 ? i - 1 : i; k <= std::min(j, slots - 1); ++k)
+      through.insert(through.end(), passing[k].begin(), passing[k].end());
+    std::sort(through.begin(), through.end());
+    const double half_step = sampling_step(through, through.size() - 1, through.size()) / 2;
+    const double start = std::max(0.0, through.front() - half_step);
+    const double end = std::min(length, through.back() + half_step);
+    if (end - start >= min_width) {
       std::vector<double> seen;
       for (size_t k = i; k < j; ++k) seen.insert(seen.end(), depths[k].begin(), depths[k].end());
-      openings.push_back({i * kSlot, std::min(width, length - i * kSlot), percentile(std::move(seen), 0.5)});
+      openings.push_back({start, end - start, percentile(std::move(seen), 0.5)});
     }
     i = j;
   }

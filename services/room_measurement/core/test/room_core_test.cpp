@@ -197,6 +197,42 @@ TEST(RoomMeasurement, WhatIsSeenThroughADoorIsNoAlcove) {
   EXPECT_NE(archway.status, RoomStatus::Ok) << archway.message;
 }
 
+// A wall 3 m in front of the scanner (y = 3, from x = -2 to 3) with a door (x 0.5..1.4, up
+// to 0.8 m over the scanner, a header above it) and a window (x -1.5..-0.5, from -0.3 to
+// 0.6 m: a sill below, a lintel above), a corridor wall 2 m behind the door and a building
+// 6 m behind the window. Returns on the line at the header's and sill's heights must not hide
+// what is seen through the gaps below and between them.
+TEST(FindOpenings, DoorsUnderAHeaderAndWindowsOverASill) {
+  std::mt19937 random(5);
+  std::vector<Eigen::Vector3f> points;
+  auto in_gap = [](float x, float z) {
+    return (x > 0.5f && x < 1.4f && z < 0.8f) || (x > -1.5f && x < -0.5f && z > -0.3f && z < 0.6f);
+  };
+  std::normal_distribution<float> noise(0, 0.01f);
+  for (float yaw = 0.4f; yaw < 2.6f; yaw += 0.01f)  // rays from the origin, as the scanner casts them
+    for (float z_on_wall = -1.2f; z_on_wall <= 1.3f; z_on_wall += 0.04f) {
+      const Eigen::Vector3f on_wall(3 * std::cos(yaw) / std::sin(yaw), 3, z_on_wall);
+      if (on_wall.x() < -2 || on_wall.x() > 3) continue;
+      float behind = 3;  // the wall's own line
+      if (in_gap(on_wall.x(), z_on_wall)) behind = on_wall.x() > 0 ? 5 : 9;
+      points.push_back(on_wall * (behind / 3) * (1 + noise(random) / on_wall.norm()));
+    }
+  WallLine wall;
+  wall.normal = {0, 1};
+  wall.offset = 3;
+  wall.z_low = -1.2;
+  wall.z_high = 1.3;
+  const auto openings = find_openings(wall, {3, 3}, {-2, 3}, points, 0.05, 0.2, 0.3);
+  ASSERT_EQ(openings.size(), 2u);
+  // Along the wall from (3, 3): the door from 1.6 to 2.5 m, the window from 3.5 to 4.5 m.
+  EXPECT_NEAR(openings[0].start, 1.6, 0.02);
+  EXPECT_NEAR(openings[0].start + openings[0].width, 2.5, 0.02);
+  EXPECT_NEAR(openings[0].depth, 2.0, 0.05);
+  EXPECT_NEAR(openings[1].start, 3.5, 0.02);
+  EXPECT_NEAR(openings[1].start + openings[1].width, 4.5, 0.02);
+  EXPECT_NEAR(openings[1].depth, 6.0, 0.1);
+}
+
 TEST(RoomMeasurement, OpenSideIsNotARoom) {
   std::mt19937 random(3);
   std::vector<Eigen::Vector3f> points;

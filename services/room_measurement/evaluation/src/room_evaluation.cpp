@@ -46,9 +46,48 @@ std::optional<std::vector<WallCheck>> match_walls(const room_measurement::RoomRe
     }
     if (!found) return std::nullopt;
     used[*found] = true;
-    checks.push_back({(truth[(*found + 1) % n] - truth[*found]).norm(), result.walls[i].length, result.walls[i].length_sigma});
+    checks.push_back(
+        {(truth[(*found + 1) % n] - truth[*found]).norm(), result.walls[i].length, result.walls[i].length_sigma, *found});
   }
   return checks;
+}
+
+// The matched walls' true openings against the measured ones (each measured opening placed on
+// its true wall by where its ends lie, so a wall matched the other way round compares too).
+void check_openings(const sim::RoomModel& room, const std::vector<Eigen::Vector2d>& truth,
+                    const room_measurement::RoomResult& result, RoomCase& c) {
+  constexpr double kFoundShare = 0.5;
+  const size_t n = truth.size();
+  for (size_t i = 0; i < c.walls.size(); ++i) {
+    const size_t j = c.walls[i].true_wall;
+    const Eigen::Vector2d origin = truth[j], along = (truth[(j + 1) % n] - truth[j]).normalized();
+    const Eigen::Vector2d corner = result.corners[i];
+    const Eigen::Vector2d direction = (result.corners[(i + 1) % result.corners.size()] - corner).normalized();
+    std::vector<std::pair<double, double>> measured;
+    for (const auto& o : result.walls[i].openings) {
+      const double a = along.dot(corner + o.start * direction - origin);
+      const double b = along.dot(corner + (o.start + o.width) * direction - origin);
+      measured.emplace_back(std::min(a, b), std::max(a, b));
+    }
+    std::vector<bool> matched(measured.size(), false);
+    for (const auto& truth_opening : room.openings) {
+      if (truth_opening.wall != j) continue;
+      OpeningCheck check{truth_opening.from, truth_opening.to};
+      double best = 0;
+      for (size_t k = 0; k < measured.size(); ++k) {
+        const double overlap = std::min(measured[k].second, check.true_to) - std::max(measured[k].first, check.true_from);
+        if (overlap <= 0) continue;
+        matched[k] = true;
+        if (overlap <= best) continue;
+        best = overlap;
+        check.from = measured[k].first;
+        check.to = measured[k].second;
+      }
+      check.found = best >= kFoundShare * (check.true_to - check.true_from);
+      c.openings.push_back(check);
+    }
+    c.spurious_openings += static_cast<size_t>(std::count(matched.begin(), matched.end(), false));
+  }
 }
 
 double percentile(std::vector<double> values, double fraction) {
@@ -60,7 +99,7 @@ double percentile(std::vector<double> values, double fraction) {
 SweepSummary summary_of(const std::string& name, const std::vector<const RoomCase*>& cases) {
   SweepSummary s;
   s.category = name;
-  std::vector<double> wall_errors, area_errors;
+  std::vector<double> wall_errors, area_errors, opening_errors;
   size_t one_sigma = 0, two_sigma = 0;
   for (const RoomCase* c : cases) {
     ++s.rooms;
@@ -84,6 +123,13 @@ SweepSummary summary_of(const std::string& name, const std::vector<const RoomCas
       const double e = std::abs(*c->ceiling_height - *c->true_ceiling_height);
       s.worst_ceiling_error = std::max(s.worst_ceiling_error.value_or(0.0), e);
     }
+    s.spurious_openings += c->spurious_openings;
+    for (const auto& o : c->openings) {
+      ++s.true_openings;
+      if (!o.found) continue;
+      ++s.openings_found;
+      opening_errors.push_back(o.edge_error());
+    }
     if (c->verdict != Verdict::Measured) continue;
     const double area_error = std::abs(c->area - c->true_area) / c->true_area;
     area_errors.push_back(area_error);
@@ -101,6 +147,10 @@ SweepSummary summary_of(const std::string& name, const std::vector<const RoomCas
     s.median_wall_error = percentile(wall_errors, 0.5);
     s.within_1_sigma = static_cast<double>(one_sigma) / wall_errors.size();
     s.within_2_sigma = static_cast<double>(two_sigma) / wall_errors.size();
+  }
+  if (!opening_errors.empty()) {
+    s.median_opening_error = percentile(opening_errors, 0.5);
+    s.max_opening_error = *std::max_element(opening_errors.begin(), opening_errors.end());
   }
   if (!area_errors.empty()) {
     s.max_area_error = *std::max_element(area_errors.begin(), area_errors.end());
@@ -168,6 +218,7 @@ RoomCase evaluate_room(const sim::GeneratedRoom& generated, const room_measureme
     return c;
   }
   c.walls = *matched;
+  check_openings(room, true_corners(generated), result, c);
   const bool inferred = std::any_of(result.walls.begin(), result.walls.end(), [](const auto& w) { return w.inferred(); });
   c.verdict = inferred ? Verdict::Inferred : Verdict::Measured;
   return c;

@@ -4,6 +4,7 @@
 // measured, any other refused.
 #pragma once
 
+#include <cmath>
 #include <functional>
 #include <optional>
 #include <string>
@@ -16,7 +17,17 @@ namespace scanbus::room_evaluation {
 
 struct WallCheck {
   double true_length = 0, length = 0, sigma = 0;  // m
+  size_t true_wall = 0;                           // the room's wall it was matched to
   double error() const { return length - true_length; }
+};
+
+// A true opening (door, window) of a matched wall, and the measured opening that covers most
+// of it, both along the true wall from its first corner.
+struct OpeningCheck {
+  double true_from = 0, true_to = 0;  // m
+  bool found = false;                 // a measured opening covers at least half of it
+  double from = 0, to = 0;            // m, the measured one
+  double edge_error() const { return std::max(std::abs(from - true_from), std::abs(to - true_to)); }
 };
 
 enum class Verdict {
@@ -38,6 +49,8 @@ struct RoomCase {
   std::string message;
   Verdict verdict = Verdict::Refused;
   std::vector<WallCheck> walls;  // matched walls, when measured
+  std::vector<OpeningCheck> openings;  // the matched walls' true openings
+  size_t spurious_openings = 0;        // measured openings over no true one
   double true_area = 0, area = 0, area_sigma = 0;
   std::optional<double> true_ceiling_height, ceiling_height;
   size_t points = 0;
@@ -75,6 +88,8 @@ struct SweepSummary {
   double max_wall_error = 0, p95_wall_error = 0, median_wall_error = 0;  // m, absolute
   double max_area_error = 0, p95_area_error = 0;                          // relative
   double within_1_sigma = 0, within_2_sigma = 0;  // shares of matched walls
+  size_t true_openings = 0, openings_found = 0, spurious_openings = 0;  // on matched walls
+  double median_opening_error = 0, max_opening_error = 0;  // m: the found openings' worse end
   std::optional<double> worst_ceiling_error;      // m, over rooms that report a ceiling height
 };
 
