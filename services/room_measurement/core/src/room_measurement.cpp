@@ -303,8 +303,13 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
   std::vector<WallLine> candidates;
   RansacSettings vertical = settings.ransac;  // planes holding less of the cloud are clutter
   vertical.min_inliers = std::max(vertical.min_inliers, static_cast<size_t>(settings.min_plane_share * walls_only.size()));
+  constexpr double kRunGap = 1.0, kMinRun = 0.25;  // m: the narrowest opening; shorter than the shortest
+                                                   // chimney-breast side, longer than a crossing wall's band
   for (Plane& plane : extract_planes(walls_only, true, vertical)) {
     WallLine wall = fit_wall(std::move(plane.inliers));
+    auto runs = long_runs(wall, kRunGap, kMinRun);
+    if (runs.size() < vertical.min_inliers) continue;
+    if (runs.size() < wall.inliers.size()) wall = fit_wall(std::move(runs));
     if (wall.z_high - wall.z_low >= settings.min_wall_height && wall.z_coverage >= settings.min_wall_coverage &&
         wall.length_coverage >= settings.min_wall_fill)
       candidates.push_back(std::move(wall));

@@ -238,6 +238,20 @@ WallLine fit_wall(std::vector<Eigen::Vector3f> inliers) {
   return wall;
 }
 
+std::vector<Eigen::Vector3f> long_runs(const WallLine& wall, double gap, double min_run) {
+  std::vector<std::pair<double, size_t>> along;  // position along the line, inlier
+  for (size_t i = 0; i < wall.inliers.size(); ++i)
+    along.emplace_back(wall.direction().dot(wall.inliers[i].head<2>().cast<double>()), i);
+  std::sort(along.begin(), along.end());
+  std::vector<Eigen::Vector3f> kept;
+  for (size_t first = 0, last = 0; first < along.size(); first = ++last) {
+    while (last + 1 < along.size() && along[last + 1].first - along[last].first <= gap) ++last;
+    if (along[last].first - along[first].first < min_run) continue;
+    for (size_t k = first; k <= last; ++k) kept.push_back(wall.inliers[along[k].second]);
+  }
+  return kept;
+}
+
 std::vector<WallLine> merge_collinear(std::vector<WallLine> walls, double angle, double same, double tail) {
   std::sort(walls.begin(), walls.end(), [](const auto& a, const auto& b) { return a.inliers.size() > b.inliers.size(); });
   for (size_t i = 0; i < walls.size(); ++i) {

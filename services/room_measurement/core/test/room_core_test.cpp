@@ -233,6 +233,28 @@ TEST(FindOpenings, DoorsUnderAHeaderAndWindowsOverASill) {
   EXPECT_NEAR(openings[1].depth, 6.0, 0.1);
 }
 
+// RANSAC's plane through a chimney breast's 1.2 m front also takes the side walls' points
+// where they cross its line, 2 m either side: those runs go, the front and a wall with a door
+// in it stay whole.
+TEST(LongRuns, CrossingWallsLeaveTheFrontAndDoorsSplitNoWall) {
+  std::mt19937 random(3);
+  std::vector<Eigen::Vector3f> front;
+  add_wall(front, {-1.4f, 2}, {-0.2f, 2}, random);
+  const size_t front_points = front.size();
+  add_wall(front, {-3.35f, 2}, {-3.25f, 2}, random);  // the crossing walls' bands
+  add_wall(front, {3.25f, 2}, {3.35f, 2}, random);
+  const auto kept = long_runs(fit_wall(front), 1.0, 0.25);
+  EXPECT_EQ(kept.size(), front_points);
+  const WallLine fitted = fit_wall(kept);
+  EXPECT_NEAR(fitted.end - fitted.start, 1.2, 0.05);  // the front's extent, not the room's
+  EXPECT_GT(fitted.length_coverage, 0.9);
+
+  std::vector<Eigen::Vector3f> wall;
+  add_wall(wall, {-2, 3}, {0.5f, 3}, random);
+  add_wall(wall, {1.4f, 3}, {3, 3}, random);  // a 0.9 m door between
+  EXPECT_EQ(long_runs(fit_wall(wall), 1.0, 0.25).size(), wall.size());
+}
+
 TEST(RoomMeasurement, OpenSideIsNotARoom) {
   std::mt19937 random(3);
   std::vector<Eigen::Vector3f> points;
