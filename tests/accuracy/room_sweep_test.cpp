@@ -26,6 +26,9 @@ TEST(RoomSweep, WhatHoldsOnTheSweep) {
     if (s.category == "box" || s.category == "windows" || s.category == "angled" || s.category == "near_wall") {
       EXPECT_EQ(s.measured, s.rooms) << s.category;
     }
+    if (s.category == "furniture") {
+      EXPECT_GE(s.measured, 5u) << "furniture: a wardrobe under the ceiling is seen over, not a wall";
+    }
     if (s.category == "doors") {
       EXPECT_GE(s.measured, 8u) << "doors: what is seen through a door is outside";
     }
@@ -35,11 +38,11 @@ TEST(RoomSweep, WhatHoldsOnTheSweep) {
       EXPECT_EQ(s.wrong, 0u) << "a breast's front is a wall, not cut away";
     }
     if (s.category != "all") continue;
-    EXPECT_GE(s.measured, 66u);
+    EXPECT_GE(s.measured, 68u);
     EXPECT_GE(s.inferred, 8u);
     EXPECT_LE(s.wrong, 1u) << "rooms given status ok with walls that are not the room's";
     EXPECT_LT(s.median_wall_error, 0.006);
-    EXPECT_GE(s.within_target, 40u) << "rooms with every wall within 1 cm and the area within 0.5 %";
+    EXPECT_GE(s.within_target, 41u) << "rooms with every wall within 1 cm and the area within 0.5 %";
     EXPECT_LE(s.ok_over_2cm - s.wrong, 5u) << "rooms with the right walls, one of them more than 2 cm off";
     // The printed sigmas are calibrated: the true error within 1 sigma for 60-75 % of walls,
     // within 2 sigma for at least 93 %.

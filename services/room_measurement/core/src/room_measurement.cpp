@@ -316,7 +316,12 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
   }
   candidates = merge_collinear(std::move(candidates), 3 * M_PI / 180, settings.ransac.distance / 2,
                                3 * settings.ransac.distance);
-  for (auto& wall : candidates) wall.profile = wall_profile(wall, valid, settings.ransac.distance, 0.5);
+  const ViewLimits view = view_limits(valid, result);
+  for (auto& wall : candidates) {
+    wall.profile = wall_profile(wall, valid, settings.ransac.distance, 0.5);
+    const PolygonSettings& p = settings.polygon;
+    wall.seen_over = seen_over_share(wall, valid, 0.1, 0.2, view.top_at(wall.offset) - p.top_margin - p.top_band);
+  }
   result.candidates = candidates;
   if (candidates.size() < 3) {
     result.status = RoomStatus::TooFewWalls;
@@ -325,7 +330,7 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
     return result;
   }
   std::string why;
-  const std::optional<Polygon> polygon = room_polygon(candidates, view_limits(valid, result), settings.polygon, why);
+  const std::optional<Polygon> polygon = room_polygon(candidates, view, settings.polygon, why);
   if (!polygon) {
     result.status = RoomStatus::WallsDoNotClose;
     result.message = why;
@@ -417,6 +422,7 @@ RoomSettings room_settings_from_config(const Config& section) {
   s.polygon.support_reach = polygon.number("support_reach", s.polygon.support_reach, 0.01, 10);
   s.polygon.top_margin = polygon.number("top_margin", s.polygon.top_margin, 0, 10);
   s.polygon.top_band = polygon.number("top_band", s.polygon.top_band, 0.01, 10);
+  s.polygon.max_seen_over = polygon.number("max_seen_over", s.polygon.max_seen_over, 0, 1);
   s.polygon.min_hidden_wall = polygon.number("min_hidden_wall", s.polygon.min_hidden_wall, 0.01, 100);
   const Config adjustment = section.section("adjustment");
   s.adjustment.enabled = adjustment.flag("enabled", s.adjustment.enabled);

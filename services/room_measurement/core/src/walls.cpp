@@ -65,11 +65,12 @@ bool segments_cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Ei
 // does not reach the top of the view it is furniture in front of the other (a wardrobe whose
 // wall above it the histogram filter dropped): drop it, so the wall behind meets its true
 // neighbours. A nearer one that reaches the top is a wall: the wall between them is missing.
-// Whether a wall has points just below the top of the view anywhere along it (furniture has none).
+// Whether a wall has points just below the top of the view anywhere along it (furniture has
+// none) and is not seen over (furniture under the ceiling).
 bool reaches_top(const WallLine& wall, const ViewLimits& view, const PolygonSettings& settings) {
-  const double top = std::min(view.top, wall.offset * view.tan_elevation) - settings.top_margin;
+  const double top = view.top_at(wall.offset) - settings.top_margin;
   const double middle = (wall.start + wall.end) / 2, half = (wall.end - wall.start) / 2;
-  return wall.profile.has_points(middle, half, top - settings.top_band, top);
+  return wall.seen_over <= settings.max_seen_over && wall.profile.has_points(middle, half, top - settings.top_band, top);
 }
 
 void drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
@@ -313,6 +314,27 @@ WallProfile wall_profile(const WallLine& wall, const std::vector<Eigen::Vector3f
   return profile;
 }
 
+double seen_over_share(const WallLine& wall, const std::vector<Eigen::Vector3f>& points, double beyond, double margin,
+                       double z_from) {
+  constexpr double kSlot = 0.1;  // m
+  const double first = wall.start + margin, length = wall.end - margin - first;
+  if (!(length >= kSlot)) return 0;
+  std::vector<bool> over(static_cast<size_t>(std::ceil(length / kSlot)), false);
+  for (const auto& p : points) {
+    const Eigen::Vector2d xy = p.head<2>().cast<double>();
+    if (wall.normal.dot(xy) - wall.offset <= beyond) continue;
+    const Eigen::Vector3d crossing = wall.on_ray(p.cast<double>());
+    const double s = wall.direction().dot(crossing.head<2>()) - first;
+    if (crossing.z() > z_from && s >= 0 && s < length) over[static_cast<size_t>(s / kSlot)] = true;
+  }
+  // Only where the wall stands below (a gap in its line, an L's or T's arm, is no furniture).
+  constexpr double kAboveFloor = 0.3;  // m: floor points lie on every line
+  size_t seen = 0;
+  for (size_t i = 0; i < over.size(); ++i)
+    seen += over[i] && wall.profile.has_points(first + (i + 0.5) * kSlot, kSlot / 2, wall.profile.base + kAboveFloor, z_from);
+  return static_cast<double>(seen) / static_cast<double>(over.size());
+}
+
 std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimits& view,
                                     const PolygonSettings& settings, std::string& why) {
   // The nearest enclosing wall in each direction, a quarter of a degree at a time. A wall
@@ -337,7 +359,7 @@ std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimi
       if (along < walls[w].start - settings.extent_tolerance || along > walls[w].end + settings.extent_tolerance) continue;
       // Points at a wall's own heights: the floor and ceiling run on under an alcove or a
       // chimney breast's side, where no wall stands on the line.
-      const double top = std::min(view.top, t * view.tan_elevation) - settings.top_margin;
+      const double top = view.top_at(t) - settings.top_margin;
       if (walls[w].profile.has_points(along, settings.support_reach, walls[w].profile.base + kFloorBand, top))
         hits.push_back({t, static_cast<int>(w)});
     }
@@ -345,9 +367,10 @@ std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimi
     std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) { return a.t < b.t; });
     seen[step] = hits.back().wall;  // nothing reaches the top: the farthest, as furniture stands in front
     for (const Hit& hit : hits) {
-      const double top = std::min(view.top, hit.t * view.tan_elevation) - settings.top_margin;
+      const double top = view.top_at(hit.t) - settings.top_margin;
       const double along = walls[hit.wall].direction().dot(hit.t * ray);
-      if (walls[hit.wall].profile.has_points(along, settings.support_reach, top - settings.top_band, top)) {
+      if (walls[hit.wall].seen_over <= settings.max_seen_over &&
+          walls[hit.wall].profile.has_points(along, settings.support_reach, top - settings.top_band, top)) {
         seen[step] = hit.wall;
         break;
       }

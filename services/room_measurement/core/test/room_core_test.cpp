@@ -255,6 +255,45 @@ TEST(LongRuns, CrossingWallsLeaveTheFrontAndDoorsSplitNoWall) {
   EXPECT_EQ(long_runs(fit_wall(wall), 1.0, 0.25).size(), wall.size());
 }
 
+// A front 0.4 m before a wall (y = 2.6 and 3, floor 1.2 m under the scanner, ceiling 1.3 m
+// over it), cast ray by ray: a wardrobe 0.25 m under the ceiling is seen over along all its
+// middle (the ceiling strip behind its top), a chimney breast's front reaching the ceiling
+// nowhere.
+TEST(SeenOver, AWardrobeUnderTheCeilingIsSeenOverAChimneyBreastIsNot) {
+  auto scan = [](float front_top) {
+    std::vector<Eigen::Vector3f> points;
+    for (float yaw = 0.5f; yaw < 2.64f; yaw += 0.006f)
+      for (float elevation = -0.9f; elevation < 0.9f; elevation += 0.01f) {
+        const Eigen::Vector3f ray(std::cos(yaw) * std::cos(elevation), std::sin(yaw) * std::cos(elevation), std::sin(elevation));
+        float t = 3 / ray.y();                                            // the wall
+        if (ray.z() > 0) t = std::min(t, 1.3f / ray.z());                 // the ceiling
+        if (ray.z() < 0) t = std::min(t, -1.2f / ray.z());                // the floor
+        const Eigen::Vector3f on_front = ray * (2.6f / ray.y());
+        if (std::abs(on_front.x()) < 0.6f && on_front.z() < front_top) t = std::min(t, 2.6f / ray.y());
+        points.push_back(ray * t);
+      }
+    return points;
+  };
+  ViewLimits view;
+  view.top = 1.3;
+  view.tan_elevation = std::tan(0.9);
+  const PolygonSettings polygon;
+  for (const float front_top : {1.05f, 1.3f}) {
+    const auto points = scan(front_top);
+    std::vector<Eigen::Vector3f> on_front;
+    for (const auto& p : points)
+      if (std::abs(p.y() - 2.6f) < 0.02f && std::abs(p.x()) < 0.6f) on_front.push_back(p);
+    WallLine front = fit_wall(on_front);
+    front.profile = wall_profile(front, points, 0.05, 0.5);
+    const double share = seen_over_share(front, points, 0.1, 0.2, view.top_at(front.offset) - polygon.top_margin - polygon.top_band);
+    if (front_top < 1.3f) {
+      EXPECT_GT(share, 0.9) << "a wardrobe under the ceiling";
+    } else {
+      EXPECT_EQ(share, 0.0) << "a chimney breast's front";
+    }
+  }
+}
+
 TEST(RoomMeasurement, OpenSideIsNotARoom) {
   std::mt19937 random(3);
   std::vector<Eigen::Vector3f> points;

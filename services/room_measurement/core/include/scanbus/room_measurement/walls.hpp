@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -35,6 +36,7 @@ struct WallLine {
   std::vector<Eigen::Vector3f> inliers;
   WallProfile profile;
   bool inferred = false;      // not seen: placed between two parallel walls the scanner saw (infer_hidden_wall)
+  double seen_over = 0;       // share of its middle where returns pass its line above its top (seen_over_share)
 
   Eigen::Vector2d direction() const { return {-normal.y(), normal.x()}; }
   // Where the ray from the scanner (the origin) through `point` meets the wall's plane: range
@@ -61,6 +63,13 @@ std::vector<WallLine> merge_collinear(std::vector<WallLine> walls, double angle,
 // The wall's profile from every point within `band` of its line, over its extent and `margin`
 // beyond each end.
 WallProfile wall_profile(const WallLine& wall, const std::vector<Eigen::Vector3f>& points, double band, double margin);
+
+// Share of the wall's middle (all but `margin` at each end) where returns pass its line more
+// than `beyond` past it, crossing it above `z_from`: furniture under the ceiling is seen over
+// along all of it (the ceiling behind its top, the wall above it), a wall only through its
+// doors, a chimney breast's front nowhere.
+double seen_over_share(const WallLine& wall, const std::vector<Eigen::Vector3f>& points, double beyond, double margin,
+                       double z_from);
 
 struct Polygon {
   std::vector<size_t> walls;               // indices into the candidates, in order around the room
@@ -100,6 +109,9 @@ struct PolygonSettings {
                                    // sees there (from top - top_margin - top_band to top - top_margin;
                                    // not at the top, where the ceiling's own points lie); furniture
   double top_band = 0.25;          // in front of a wall has none there
+  double max_seen_over = 0.5;      // share of its middle: a wall seen over along more (seen_over_share,
+                                   // above its top band) is furniture under the ceiling; a wall is seen
+                                   // through only at its doors, a chimney breast's front not at all
   double min_hidden_wall = 0.1;    // m: parallel neighbours at least this far apart are joined by an
                                    // inferred wall (the shallowest chimney breasts and alcoves are 0.3 m)
 };
@@ -109,6 +121,10 @@ struct PolygonSettings {
 struct ViewLimits {
   double top = 0;            // m above the scanner
   double tan_elevation = 1;  // of the steepest upward ray
+
+  // The highest point seen on a surface at horizontal distance t, below a wall's top band:
+  // where a wall has points and furniture in front of one has none.
+  double top_at(double t) const { return std::min(top, t * tan_elevation); }
 };
 
 // An opening in a wall: returns seen beyond its line through a gap in it (a door, a window).
