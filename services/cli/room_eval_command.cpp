@@ -54,6 +54,11 @@ nlohmann::json summary_json(const room_evaluation::SweepSummary& s) {
                         {"max_area_error", s.max_area_error},
                         {"walls_within_1_sigma", s.within_1_sigma},
                         {"walls_within_2_sigma", s.within_2_sigma},
+                        {"corners", s.corners},
+                        {"median_corner_error_m", s.median_corner_error},
+                        {"max_corner_error_m", s.max_corner_error},
+                        {"corners_within_1_sigma", s.corners_within_1_sigma},
+                        {"corners_within_2_sigma", s.corners_within_2_sigma},
                         {"true_openings", s.true_openings},
                         {"openings_found", s.openings_found},
                         {"spurious_openings", s.spurious_openings},
@@ -103,6 +108,12 @@ void print_table(const std::vector<room_evaluation::SweepSummary>& summaries) {
   std::printf("seen: every wall in view; ok: measured with the right walls, all seen; target: every wall within 1 cm and the "
               "area within 0.5 %%;\ninfer: right walls, some not seen but inferred (errors and sigmas counted); >2cm: ok with a wall more than 2 cm off or wrong walls; refused: right/wrongly "
               "(a room in view); errors over matched walls; 1sig/2sig: walls within 1 and 2 sigma\n");
+  std::printf("\n%-15s %7s %10s %9s %6s %6s\n", "corners", "corners", "median_m", "max_m", "1sig", "2sig");
+  for (const auto& s : summaries)
+    if (s.corners > 0)
+      std::printf("%-15s %7zu %10.4f %9.4f %5.0f%% %5.0f%%\n", s.category.c_str(), s.corners, s.median_corner_error,
+                  s.max_corner_error, 100 * s.corners_within_1_sigma, 100 * s.corners_within_2_sigma);
+  std::printf("distance of each corner of a measured or inferred room from the true one; 1sig/2sig: within 1 and 2 of its sigmas\n");
   std::printf("\n%-15s %11s %9s %15s %12s\n", "openings", "found/true", "spurious", "median_edge_m", "max_edge_m");
   for (const auto& s : summaries)
     if (s.true_openings + s.spurious_openings > 0)

@@ -1,5 +1,6 @@
 #include "room_report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -37,6 +38,7 @@ nlohmann::json room_json(const RoomResult& room) {
                         {"walls", walls},
                         {"corners", corners},
                         {"corner_inferred", corner_inferred},
+                        {"corner_sigmas_m", room.corner_sigmas},
                         {"candidates", candidates},
                         {"area_m2", room.area},
                         {"perimeter_m", room.perimeter},
@@ -82,6 +84,11 @@ std::string room_text(const RoomResult& room) {
       }
     }
     text += ")\n";
+  }
+  if (!room.corner_sigmas.empty()) {
+    const auto [low, high] = std::minmax_element(room.corner_sigmas.begin(), room.corner_sigmas.end());
+    std::snprintf(line, sizeof(line), "corners placed within +-%.3f to %.3f m (one sigma)\n", *low, *high);
+    text += line;
   }
   std::snprintf(line, sizeof(line), "floor area %.2f m2", room.area);
   text += line;

@@ -49,6 +49,10 @@ TEST(RoomSweep, WhatHoldsOnTheSweep) {
     EXPECT_GE(s.within_1_sigma, 0.60);
     EXPECT_LE(s.within_1_sigma, 0.75);
     EXPECT_GE(s.within_2_sigma, 0.93);
+    // So are the corners' (one sigma of the distance from the true corner).
+    EXPECT_GE(s.corners_within_1_sigma, 0.60);
+    EXPECT_LE(s.corners_within_1_sigma, 0.75);
+    EXPECT_GE(s.corners_within_2_sigma, 0.93);
     // Doors and windows on the measured walls: found (a door's header, a window's sill and
     // lintel do not hide them), their ends placed, nothing taken for one that is not.
     EXPECT_GE(s.openings_found, 0.9 * s.true_openings) << s.openings_found << " of " << s.true_openings;

@@ -125,6 +125,7 @@ void to_json(json& out, const Wall& in) {
 void to_json(json& out, const RoomMeasurement& in) {
   out = {{"header", in.header()},         {"walls", in.walls()},
          {"corners", in.corners()},       {"corner_inferred", in.corner_inferred()},
+         {"corner_uncertainty", in.corner_uncertainty()},
          {"floor_area", in.floor_area()}, {"floor_area_uncertainty", in.floor_area_uncertainty()},
          {"perimeter", in.perimeter()},   {"ceiling_height", in.ceiling_height()},
          {"ceiling_height_note", in.ceiling_height_note()},

@@ -45,6 +45,7 @@ scanbus::msg::RoomMeasurement to_message(const RoomResult& result, const std::st
     message.corners().push_back(point);
   }
   for (bool inferred : result.corner_inferred) message.corner_inferred().push_back(inferred);
+  message.corner_uncertainty(result.corner_sigmas);
   message.floor_area(result.area);
   message.floor_area_uncertainty(result.area_sigma);
   message.perimeter(result.perimeter);
@@ -78,6 +79,7 @@ RoomResult from_message(const scanbus::msg::RoomMeasurement& message) {
   }
   for (const auto& corner : message.corners()) room.corners.emplace_back(corner.x(), corner.y());
   room.corner_inferred.assign(message.corner_inferred().begin(), message.corner_inferred().end());
+  room.corner_sigmas = message.corner_uncertainty();
   room.area = message.floor_area();
   room.area_sigma = message.floor_area_uncertainty();
   room.perimeter = message.perimeter();

@@ -72,6 +72,7 @@ void adjust(const AdjustmentSettings& settings, const std::vector<Eigen::Vector3
     result.walls[i].length_sigma = adjusted.length_sigmas[i];
   }
   result.corners = adjusted.corners;
+  result.corner_sigmas = adjusted.corner_sigmas;
   result.area = adjusted.area;
   result.area_sigma = adjusted.area_sigma;
   result.range_bias = adjusted.range_bias;
@@ -249,6 +250,7 @@ bool refuse_recess(double recess_depth, RoomResult& result) {
       result.walls.clear();
       result.corners.clear();
       result.corner_inferred.clear();
+      result.corner_sigmas.clear();
       result.area = result.area_sigma = 0;
       drop_unchecked_heights(result);
       return true;

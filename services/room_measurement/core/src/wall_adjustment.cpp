@@ -173,20 +173,21 @@ Outline outline(const std::vector<WallLine>& walls, const Eigen::VectorXd& x) {
   return o;
 }
 
-// Variances of the lengths and the area.
+// Variances of the lengths, the corners' positions (summed over x and y) and the area.
 struct Spread {
-  std::vector<double> lengths;
+  std::vector<double> lengths, corners;
   double area = 0;
 
+  explicit Spread(size_t count) : lengths(count, 0), corners(count, 0) {}
   void add(const Spread& other) {
-    for (size_t i = 0; i < lengths.size(); ++i) lengths[i] += other.lengths[i];
+    for (size_t i = 0; i < lengths.size(); ++i) lengths[i] += other.lengths[i], corners[i] += other.corners[i];
     area += other.area;
   }
 };
 
 // The outlines' variance about their mean, times `scale`.
 Spread variance_of(const std::vector<Outline>& outlines, size_t count, double scale) {
-  Spread spread{std::vector<double>(count, 0), 0};
+  Spread spread(count);
   if (outlines.size() < 2) return spread;
   const double n = static_cast<double>(outlines.size());
   auto variance = [&](auto value) {
@@ -195,7 +196,11 @@ Spread variance_of(const std::vector<Outline>& outlines, size_t count, double sc
     for (const auto& o : outlines) squares += (value(o) - mean) * (value(o) - mean);
     return scale * squares / n;
   };
-  for (size_t i = 0; i < count; ++i) spread.lengths[i] = variance([i](const Outline& o) { return o.lengths[i]; });
+  for (size_t i = 0; i < count; ++i) {
+    spread.lengths[i] = variance([i](const Outline& o) { return o.lengths[i]; });
+    spread.corners[i] = variance([i](const Outline& o) { return o.corners[i].x(); }) +
+                        variance([i](const Outline& o) { return o.corners[i].y(); });
+  }
   spread.area = variance([](const Outline& o) { return o.area; });
   return spread;
 }
@@ -245,10 +250,13 @@ Spread prior_spread(const System& system, const std::vector<WallLine>& walls, co
                     const AdjustmentSettings& settings) {
   const size_t count = walls.size();
   const Outline best = outline(walls, x);
-  Spread spread{std::vector<double>(count, 0), 0};
+  Spread spread(count);
   auto add = [&](const Eigen::VectorXd& shifted_x) {
     const Outline shifted = outline(walls, shifted_x);
-    for (size_t i = 0; i < count; ++i) spread.lengths[i] += std::pow(shifted.lengths[i] - best.lengths[i], 2);
+    for (size_t i = 0; i < count; ++i) {
+      spread.lengths[i] += std::pow(shifted.lengths[i] - best.lengths[i], 2);
+      spread.corners[i] += (shifted.corners[i] - best.corners[i]).squaredNorm();
+    }
     spread.area += std::pow(shifted.area - best.area, 2);
   };
   const auto sigmas = device_sigmas(settings);
@@ -287,12 +295,16 @@ AdjustedWalls adjust_walls(const std::vector<WallLine>& walls, const AdjustmentS
   result.pitch_offset = x[2 * count + 2];
   result.yaw_error = {x[2 * count + 3], x[2 * count + 4]};
   result.length_sigmas.assign(count, 0);
+  result.corner_sigmas.assign(count, 0);
   if (settings.bootstrap <= 0 || bins < 2) return result;
 
   Spread spread = bootstrap_spread(system, walls, settings.bootstrap);
   if (settings.estimate_device && seen >= 3) spread.add(wall_jackknife_spread(system, walls, x));
   spread.add(prior_spread(system, walls, x, settings));
-  for (size_t i = 0; i < count; ++i) result.length_sigmas[i] = std::sqrt(spread.lengths[i]);
+  for (size_t i = 0; i < count; ++i) {
+    result.length_sigmas[i] = std::sqrt(spread.lengths[i]);
+    result.corner_sigmas[i] = std::sqrt(spread.corners[i]);
+  }
   result.area_sigma = std::sqrt(spread.area);
   return result;
 }

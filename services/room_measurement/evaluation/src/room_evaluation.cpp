@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <thread>
 
@@ -99,7 +100,8 @@ double percentile(std::vector<double> values, double fraction) {
 SweepSummary summary_of(const std::string& name, const std::vector<const RoomCase*>& cases) {
   SweepSummary s;
   s.category = name;
-  std::vector<double> wall_errors, area_errors, opening_errors;
+  std::vector<double> wall_errors, area_errors, opening_errors, corner_errors;
+  size_t corner_one_sigma = 0, corner_two_sigma = 0;
   size_t one_sigma = 0, two_sigma = 0;
   for (const RoomCase* c : cases) {
     ++s.rooms;
@@ -122,6 +124,11 @@ SweepSummary summary_of(const std::string& name, const std::vector<const RoomCas
     if (c->ceiling_height && c->true_ceiling_height) {
       const double e = std::abs(*c->ceiling_height - *c->true_ceiling_height);
       s.worst_ceiling_error = std::max(s.worst_ceiling_error.value_or(0.0), e);
+    }
+    for (size_t i = 0; i < c->corner_errors.size(); ++i) {
+      corner_errors.push_back(c->corner_errors[i]);
+      corner_one_sigma += c->corner_errors[i] <= c->corner_sigmas[i];
+      corner_two_sigma += c->corner_errors[i] <= 2 * c->corner_sigmas[i];
     }
     s.spurious_openings += c->spurious_openings;
     for (const auto& o : c->openings) {
@@ -147,6 +154,13 @@ SweepSummary summary_of(const std::string& name, const std::vector<const RoomCas
     s.median_wall_error = percentile(wall_errors, 0.5);
     s.within_1_sigma = static_cast<double>(one_sigma) / wall_errors.size();
     s.within_2_sigma = static_cast<double>(two_sigma) / wall_errors.size();
+  }
+  s.corners = corner_errors.size();
+  if (!corner_errors.empty()) {
+    s.median_corner_error = percentile(corner_errors, 0.5);
+    s.max_corner_error = *std::max_element(corner_errors.begin(), corner_errors.end());
+    s.corners_within_1_sigma = static_cast<double>(corner_one_sigma) / corner_errors.size();
+    s.corners_within_2_sigma = static_cast<double>(corner_two_sigma) / corner_errors.size();
   }
   if (!opening_errors.empty()) {
     s.median_opening_error = percentile(opening_errors, 0.5);
@@ -218,7 +232,14 @@ RoomCase evaluate_room(const sim::GeneratedRoom& generated, const room_measureme
     return c;
   }
   c.walls = *matched;
-  check_openings(room, true_corners(generated), result, c);
+  const auto truth = true_corners(generated);
+  check_openings(room, truth, result, c);
+  for (size_t i = 0; i < result.corners.size() && i < result.corner_sigmas.size(); ++i) {
+    double nearest = std::numeric_limits<double>::max();  // matched walls put every corner near its true one
+    for (const auto& t : truth) nearest = std::min(nearest, (result.corners[i] - t).norm());
+    c.corner_errors.push_back(nearest);
+    c.corner_sigmas.push_back(result.corner_sigmas[i]);
+  }
   const bool inferred = std::any_of(result.walls.begin(), result.walls.end(), [](const auto& w) { return w.inferred(); });
   c.verdict = inferred ? Verdict::Inferred : Verdict::Measured;
   return c;

@@ -23,6 +23,7 @@ RoomResult measured_room() {
   room.walls[1].openings.clear();
   room.corners = {{1.0, 2.0}, {-1.5, 2.0}};
   room.corner_inferred = {false, true};
+  room.corner_sigmas = {0.004, 0.011};
   room.area = 19.03;
   room.area_sigma = 0.04;
   room.perimeter = 17.9;
@@ -68,6 +69,7 @@ TEST(RoomMessage, TheResultSurvivesTheWire) {
   EXPECT_FALSE(room.walls[0].inferred());
   EXPECT_TRUE(room.walls[1].inferred());
   EXPECT_EQ(room.corner_inferred, (std::vector<bool>{false, true}));
+  EXPECT_EQ(room.corner_sigmas, (std::vector<double>{0.004, 0.011}));
   EXPECT_NEAR(room.area, 19.03, 1e-12);
   EXPECT_NEAR(room.area_sigma, 0.04, 1e-12);
   ASSERT_TRUE(room.ceiling_height());

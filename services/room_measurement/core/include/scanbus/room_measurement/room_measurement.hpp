@@ -64,6 +64,8 @@ struct RoomResult {
   std::vector<WallLine> candidates;       // every wall-like plane found, for diagnosis when no room closes
   std::vector<Eigen::Vector2d> corners;   // corners[i] joins walls[i-1] and walls[i]
   std::vector<bool> corner_inferred;      // per corner: placed by assumption, not seen (an inferred wall's far end)
+  std::vector<double> corner_sigmas;      // m per corner: one sigma of its distance from the true corner
+                                          // (the wall adjustment's; empty without it)
   double area = 0, perimeter = 0;
   double area_sigma = 0;  // m^2, one sigma
   double range_bias = 0, lever_arm = 0;  // m: the device's errors the wall adjustment estimated

@@ -47,6 +47,8 @@ struct AdjustedWalls {
   std::vector<double> offsets;
   std::vector<Eigen::Vector2d> corners;  // corners[i] joins walls[i-1] and walls[i]
   std::vector<double> lengths, length_sigmas;
+  std::vector<double> corner_sigmas;     // m: one sigma of each corner's distance from where it is
+                                         // (the root of its covariance's trace)
   double area = 0, area_sigma = 0;
   double range_bias = 0, lever_arm = 0;  // m: the corrections estimated (added to the range; along "up")
   double pitch_offset = 0;               // rad, added to the reported pitch

@@ -49,6 +49,7 @@ struct RoomCase {
   std::string message;
   Verdict verdict = Verdict::Refused;
   std::vector<WallCheck> walls;  // matched walls, when measured
+  std::vector<double> corner_errors, corner_sigmas;  // m: each corner's distance from the true one, its sigma
   std::vector<OpeningCheck> openings;  // the matched walls' true openings
   size_t spurious_openings = 0;        // measured openings over no true one
   double true_area = 0, area = 0, area_sigma = 0;
@@ -88,6 +89,9 @@ struct SweepSummary {
   double max_wall_error = 0, p95_wall_error = 0, median_wall_error = 0;  // m, absolute
   double max_area_error = 0, p95_area_error = 0;                          // relative
   double within_1_sigma = 0, within_2_sigma = 0;  // shares of matched walls
+  size_t corners = 0;                           // of measured and inferred rooms
+  double median_corner_error = 0, max_corner_error = 0;  // m
+  double corners_within_1_sigma = 0, corners_within_2_sigma = 0;
   size_t true_openings = 0, openings_found = 0, spurious_openings = 0;  // on matched walls
   double median_opening_error = 0, max_opening_error = 0;  // m: the found openings' worse end
   std::optional<double> worst_ceiling_error;      // m, over rooms that report a ceiling height
