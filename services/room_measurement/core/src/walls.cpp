@@ -65,12 +65,16 @@ bool segments_cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Ei
 // does not reach the top of the view it is furniture in front of the other (a wardrobe whose
 // wall above it the histogram filter dropped): drop it, so the wall behind meets its true
 // neighbours. A nearer one that reaches the top is a wall: the wall between them is missing.
-// Whether a wall has points just below the top of the view anywhere along it (furniture has
-// none) and is not seen over (furniture under the ceiling).
+// Whether a wall has points just below `top` within `reach` of an along-position (furniture
+// has none) and is not seen over (furniture under the ceiling).
+bool stands_to_top(const WallLine& wall, double along, double reach, double top, const PolygonSettings& settings) {
+  return wall.seen_over <= settings.max_seen_over && wall.profile.has_points(along, reach, top - settings.top_band, top);
+}
+
+// Whether it does so anywhere along it.
 bool reaches_top(const WallLine& wall, const ViewLimits& view, const PolygonSettings& settings) {
-  const double top = view.top_at(wall.offset) - settings.top_margin;
   const double middle = (wall.start + wall.end) / 2, half = (wall.end - wall.start) / 2;
-  return wall.seen_over <= settings.max_seen_over && wall.profile.has_points(middle, half, top - settings.top_band, top);
+  return stands_to_top(wall, middle, half, view.top_at(wall.offset) - settings.top_margin, settings);
 }
 
 void drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
@@ -369,8 +373,7 @@ std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimi
     for (const Hit& hit : hits) {
       const double top = view.top_at(hit.t) - settings.top_margin;
       const double along = walls[hit.wall].direction().dot(hit.t * ray);
-      if (walls[hit.wall].seen_over <= settings.max_seen_over &&
-          walls[hit.wall].profile.has_points(along, settings.support_reach, top - settings.top_band, top)) {
+      if (stands_to_top(walls[hit.wall], along, settings.support_reach, top, settings)) {
         seen[step] = hit.wall;
         break;
       }
