@@ -23,7 +23,9 @@ TEST(RoomSweep, WhatHoldsOnTheSweep) {
                 s.median_wall_error, s.p95_wall_error, s.max_wall_error, 100 * s.within_1_sigma, 100 * s.within_2_sigma,
                 s.openings_found, s.true_openings, s.spurious_openings, s.median_opening_error);
     // Closed rooms, rooms with windows or angled walls, a scanner in a corner: every one measured.
-    if (s.category == "box" || s.category == "windows" || s.category == "angled" || s.category == "near_wall") {
+    // Closets too: a door whose lintel is above the view is an opening, not the way out.
+    if (s.category == "box" || s.category == "windows" || s.category == "angled" || s.category == "near_wall" ||
+        s.category == "closet") {
       EXPECT_EQ(s.measured, s.rooms) << s.category;
     }
     if (s.category == "furniture") {
@@ -38,11 +40,11 @@ TEST(RoomSweep, WhatHoldsOnTheSweep) {
       EXPECT_EQ(s.wrong, 0u) << "a breast's front is a wall, not cut away";
     }
     if (s.category != "all") continue;
-    EXPECT_GE(s.measured, 68u);
+    EXPECT_GE(s.measured, 72u);
     EXPECT_GE(s.inferred, 8u);
     EXPECT_LE(s.wrong, 1u) << "rooms given status ok with walls that are not the room's";
     EXPECT_LT(s.median_wall_error, 0.006);
-    EXPECT_GE(s.within_target, 41u) << "rooms with every wall within 1 cm and the area within 0.5 %";
+    EXPECT_GE(s.within_target, 43u) << "rooms with every wall within 1 cm and the area within 0.5 %";
     EXPECT_LE(s.ok_over_2cm - s.wrong, 5u) << "rooms with the right walls, one of them more than 2 cm off";
     // The printed sigmas are calibrated: the true error within 1 sigma for 60-75 % of walls,
     // within 2 sigma for at least 93 %.

@@ -424,6 +424,7 @@ RoomSettings room_settings_from_config(const Config& section) {
   s.polygon.support_reach = polygon.number("support_reach", s.polygon.support_reach, 0.01, 10);
   s.polygon.top_margin = polygon.number("top_margin", s.polygon.top_margin, 0, 10);
   s.polygon.top_band = polygon.number("top_band", s.polygon.top_band, 0.01, 10);
+  s.polygon.max_door_width = polygon.number("max_door_width", s.polygon.max_door_width, 0, 100);
   s.polygon.max_seen_over = polygon.number("max_seen_over", s.polygon.max_seen_over, 0, 1);
   s.polygon.min_hidden_wall = polygon.number("min_hidden_wall", s.polygon.min_hidden_wall, 0.01, 100);
   const Config adjustment = section.section("adjustment");

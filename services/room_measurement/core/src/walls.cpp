@@ -77,6 +77,9 @@ bool reaches_top(const WallLine& wall, const ViewLimits& view, const PolygonSett
   return stands_to_top(wall, middle, half, view.top_at(wall.offset) - settings.top_margin, settings);
 }
 
+// Where the ray at `angle` meets a wall's line, as an along-position on it.
+double along_at(const WallLine& wall, double angle) { return wall.along_on_ray({std::cos(angle), std::sin(angle)}); }
+
 void drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
                     std::vector<SeenWall>& order) {
   const double min_sine = std::sin(settings.min_wall_angle_deg * M_PI / 180);
@@ -88,12 +91,23 @@ void drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, 
       const WallLine& a = walls[order[i].wall];
       const WallLine& b = walls[order[next].wall];
       if (std::abs(cross(a.normal, b.normal)) >= min_sine || a.normal.dot(b.normal) < 0) continue;
+      // A wall seen between two runs of one nearer wall lies beyond a gap in it: outside, when
+      // the gap is a door's (its lintel above the view, as from inside a closet). A wider gap
+      // may be the room going on (an L's or T's arm whose sides are not seen): not decided here.
+      // The runs end support_reach inside the gap's edges.
+      const size_t after = (i + 2) % order.size();
+      const double gap = std::abs(along_at(a, order[after].first) - along_at(a, order[i].last)) + 2 * settings.support_reach;
+      if (order.size() >= 4 && order[i].wall == order[after].wall && b.offset > a.offset && gap <= settings.max_door_width) {
+        order.erase(order.begin() + static_cast<long>(next));
+        changed = true;
+        continue;
+      }
       const size_t nearer = a.offset < b.offset ? i : next;
       if (reaches_top(walls[order[nearer].wall], view, settings)) continue;  // a wall (an alcove's side is missing)
       order.erase(order.begin() + static_cast<long>(nearer));
       changed = true;
     }
-    // Dropping one may leave the same wall on both sides of the gap.
+    // Dropping one leaves the same wall on both sides of the gap.
     for (size_t i = 0; i + 1 < order.size();) {
       if (order[i].wall == order[i + 1].wall) {
         order[i].last = order[i + 1].last;
@@ -108,9 +122,6 @@ void drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, 
     }
   }
 }
-
-// Where the ray at `angle` meets a wall's line, as an along-position on it.
-double along_at(const WallLine& wall, double angle) { return wall.along_on_ray({std::cos(angle), std::sin(angle)}); }
 
 // Whether a seen wall has points at wall heights well past a corner (`direction` +1: past its
 // end side, -1: its start side): it goes on behind its neighbour, so the corner is not one

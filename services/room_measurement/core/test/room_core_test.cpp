@@ -187,14 +187,28 @@ TEST(RoomMeasurement, WhatIsSeenThroughADoorIsNoAlcove) {
   for (const auto& wall : result.walls) openings += wall.openings.size();
   EXPECT_EQ(openings, 1u);
 
-  // An opening to the ceiling (no lintel): the turn goes wall, corridor, wall. The corridor's
-  // wall is seen where hidden walls would meet it: none is inferred, and no room is claimed.
+  // An opening to the top of the view (an archway, or a door whose lintel the scanner cannot
+  // see, as from inside a closet): the turn goes wall, corridor, wall. A wall seen through a
+  // door-wide gap in a nearer one is outside: the same room, with the gap as its opening, and
+  // no hidden wall inferred between the wall and the corridor.
   points.erase(std::remove_if(points.begin(), points.end(),
                               [](const auto& p) { return std::abs(p.y() - 2) < 0.05f && p.x() > 0.5f && p.x() < 1.3f; }),
                points.end());
   const auto archway = measure_room(points, RoomSettings{});
+  ASSERT_EQ(archway.status, RoomStatus::Ok) << archway.message;
+  ASSERT_EQ(archway.walls.size(), 4u) << archway.message;
   for (const auto& wall : archway.walls) EXPECT_FALSE(wall.inferred());
-  EXPECT_NE(archway.status, RoomStatus::Ok) << archway.message;
+  EXPECT_NEAR(archway.area, 17.5, 0.05);
+  std::vector<Opening> archway_openings;
+  for (const auto& wall : archway.walls) archway_openings.insert(archway_openings.end(), wall.openings.begin(), wall.openings.end());
+  ASSERT_EQ(archway_openings.size(), 1u);
+  EXPECT_NEAR(archway_openings[0].width, 0.8, 0.05);
+
+  // Wider than a door (max_door_width), the gap may be an L's or T's arm whose sides are not
+  // seen: no room is claimed.
+  RoomSettings narrow_doors;
+  narrow_doors.polygon.max_door_width = 0.6;
+  EXPECT_NE(measure_room(points, narrow_doors).status, RoomStatus::Ok);
 }
 
 // A wall 3 m in front of the scanner (y = 3, from x = -2 to 3) with a door (x 0.5..1.4, up

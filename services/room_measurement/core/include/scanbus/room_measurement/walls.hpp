@@ -112,6 +112,8 @@ struct PolygonSettings {
   double max_seen_over = 0.5;      // share of its middle: a wall seen over along more (seen_over_share,
                                    // above its top band) is furniture under the ceiling; a wall is seen
                                    // through only at its doors, a chimney breast's front not at all
+  double max_door_width = 1.0;     // m: a wall seen through a gap this narrow between two runs of one
+                                   // nearer wall is outside (a single door; wider may be an L's arm)
   double min_hidden_wall = 0.1;    // m: parallel neighbours at least this far apart are joined by an
                                    // inferred wall (the shallowest chimney breasts and alcoves are 0.3 m)
 };
