@@ -226,13 +226,13 @@ RoomCase evaluate_room(const sim::GeneratedRoom& generated, const room_measureme
   }
   c.area = result.area;
   c.area_sigma = result.area_sigma;
-  const auto matched = match_walls(result, true_corners(generated));
+  const auto truth = true_corners(generated);
+  const auto matched = match_walls(result, truth);
   if (!matched) {
     c.verdict = Verdict::Wrong;
     return c;
   }
   c.walls = *matched;
-  const auto truth = true_corners(generated);
   check_openings(room, truth, result, c);
   for (size_t i = 0; i < result.corners.size() && i < result.corner_sigmas.size(); ++i) {
     double nearest = std::numeric_limits<double>::max();  // matched walls put every corner near its true one
