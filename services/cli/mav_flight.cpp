@@ -24,9 +24,14 @@ namespace {
 
 // The services' configs for this flight: the matcher as 'scanbus eval mav' runs it, the
 // pose estimator on the log's origin and laser mount.
+// The replay outruns real time, so a loaded machine must neither lose scans on the way (rt/scan
+// reliable with room for a backlog; it is best effort for a live sensor) nor drop them in the
+// assembly for a pose that comes late in stamp time (wait as long as transforms are cached).
 void write_configs(const std::string& dir, const sensor_replay::MavLog& log, const std::string& log_path, double rate) {
+  const std::string lossless_scans = "qos:\n  rt/scan: {reliability: reliable, depth: 1000}\n";
   const auto matcher = ground_evaluation::mav_matcher_settings();
-  std::ofstream(dir + "/scan_matcher.yaml") << "scan_matcher:\n  matcher:\n    opening: " << matcher.opening * 180 / M_PI
+  std::ofstream(dir + "/scan_matcher.yaml") << lossless_scans << "scan_matcher:\n  matcher:\n    opening: "
+                                            << matcher.opening * 180 / M_PI
                                             << "\n    max_correspondence: " << matcher.max_correspondence << "\n";
   const auto& origin = log.meta_of("origin", 3);
   const auto& mount = log.meta_of("laser_mount", 6);
@@ -35,8 +40,8 @@ void write_configs(const std::string& dir, const sensor_replay::MavLog& log, con
   pose << "pose_estimation:\n  origin: [" << origin[0] << ", " << origin[1] << ", " << origin[2] << "]\n"
        << "  laser_mount:\n    xyz: [" << mount[0] << ", " << mount[1] << ", " << mount[2] << "]\n    rpy: ["
        << mount[3] * 180 / M_PI << ", " << mount[4] * 180 / M_PI << ", " << mount[5] * 180 / M_PI << "]\n";
-  std::ofstream(dir + "/cloud_assembly.yaml") << "cloud_assembly: {}\n";
-  std::ofstream(dir + "/sensor_replay.yaml") << "sensor_replay:\n  log: " << log_path << "\n  rate: " << rate
+  std::ofstream(dir + "/cloud_assembly.yaml") << lossless_scans << "cloud_assembly:\n  transform_timeout: 30\n";
+  std::ofstream(dir + "/sensor_replay.yaml") << lossless_scans << "sensor_replay:\n  log: " << log_path << "\n  rate: " << rate
                                              << "\n  wait_for_readers: 2\n";
 }
 
