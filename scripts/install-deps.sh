@@ -10,7 +10,7 @@ packages=(
   libfastrtps-dev libfastcdr-dev fastddsgen
   libpcl-dev libceres-dev libeigen3-dev libgeographiclib-dev
   libzstd-dev liblz4-dev zlib1g-dev
-  libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libcairo2-dev libnanoflann-dev libdxflib-dev
+  libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libcairo2-dev libnanoflann-dev libdxflib-dev libgdal-dev
 )
 build_only=false
 [ "${1:-}" = "--build-only" ] && build_only=true
@@ -21,7 +21,7 @@ if ! $build_only; then
     git fastdds-tools
     libgtest-dev libgmock-dev libbenchmark-dev
     gcc-avr avr-libc binutils-avr arduino-core-avr arduino-mk
-    iproute2 procps python3 python3-ezdxf
+    iproute2 procps python3 python3-ezdxf gdal-bin
     docker.io docker-compose debootstrap
     cyclonedds-dev cyclonedds-tools openssl
     clang libclang-rt-14-dev

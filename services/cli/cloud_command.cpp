@@ -1,9 +1,12 @@
 // `scanbus cloud save` writes a cloud from the bus to PCD: the latest sample of a
 // PointCloud2 topic, or the cloud of a time window asked of cloud_assembly (the MAV
 // paper's laser_assembler client). `scanbus cloud render` draws a cloud file coloured by
-// height, from above or from the side, as the paper's figures show them.
+// height, from above or from the side, as the paper's figures show them. `scanbus cloud dem`
+// grids a cloud into an elevation GeoTIFF georeferenced from the map origin.
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <mutex>
 #include <optional>
@@ -11,6 +14,8 @@
 #include "cloud_files.hpp"
 #include "cloud_request.hpp"
 #include "commands.hpp"
+#include "scanbus/cloud_assembly/elevation_grid.hpp"
+#include "scanbus/cloud_dem/geotiff.hpp"
 #include "scanbus/clock.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/service.hpp"
@@ -88,10 +93,36 @@ int run_render(const RenderOptions& options) {
   return 0;
 }
 
+struct DemOptions {
+  std::string cloud, out, unit = "m";
+  std::vector<double> origin;  // latitude, longitude (degrees), altitude (m)
+  cloud_assembly::ElevationGridSettings grid;
+};
+
+int run_dem(const DemOptions& options) {
+  try {
+    const auto grid = cloud_assembly::grid_elevation(read_cloud(options.cloud, metres_per_unit(options.unit)), options.grid);
+    cloud_dem::write_geotiff(options.out, grid, {options.origin[0], options.origin[1], options.origin[2]});
+    float low = INFINITY, high = -INFINITY;
+    for (float h : grid.height)
+      if (std::isfinite(h)) low = std::min(low, h), high = std::max(high, h);
+    std::printf("wrote %s: %zu x %zu cells of %.2f m, %zu with a height (map z %.3f to %.3f m)\n", options.out.c_str(),
+                grid.columns, grid.rows, grid.cell_size, grid.filled(), low, high);
+    return 0;
+  } catch (const CloudFileError& e) {
+    std::cerr << "scanbus cloud dem: " << e.what() << "\n";
+  } catch (const cloud_assembly::ElevationGridError& e) {
+    std::cerr << "scanbus cloud dem: " << options.cloud << ": " << e.what() << "\n";
+  } catch (const cloud_dem::GeoTiffError& e) {
+    std::cerr << "scanbus cloud dem: " << e.what() << "\n";
+  }
+  return 2;
+}
+
 }  // namespace
 
 void add_cloud_command(CLI::App& app, int& exit_code) {
-  auto* cloud = app.add_subcommand("cloud", "Clouds: save one from the bus, draw one coloured by height");
+  auto* cloud = app.add_subcommand("cloud", "Clouds: save one from the bus, draw one coloured by height, grid one into an elevation GeoTIFF");
   cloud->require_subcommand(1);
 
   static SaveOptions save;
@@ -114,6 +145,21 @@ void add_cloud_command(CLI::App& app, int& exit_code) {
   drawing->add_option("--unit", render.unit, "Unit of the cloud's coordinates")->check(CLI::IsMember({"m", "cm", "mm"}));
   drawing->add_option("--title", render.title, "Title above the picture (default: the file name)");
   on_run(*drawing, exit_code, [] { return run_render(render); });
+
+  static DemOptions dem;
+  auto* gridding = cloud->add_subcommand("dem", "Grid a map-frame cloud (PCD, PLY, XYZ) into an elevation GeoTIFF: height "
+                                         "above the WGS84 ellipsoid, spread and count per cell");
+  gridding->add_option("cloud", dem.cloud, "Cloud file in the map frame (x east, y north, z up)")->required()->check(CLI::ExistingFile);
+  gridding->add_option("--origin", dem.origin, "The map origin's latitude,longitude (degrees) and altitude (m above the "
+                       "ellipsoid), as the MAV log's META origin")
+      ->required()
+      ->expected(3)
+      ->delimiter(',');
+  gridding->add_option("--out", dem.out, "GeoTIFF file to write")->required();
+  gridding->add_option("--cell", dem.grid.cell_size, "Cell size, m")->check(CLI::PositiveNumber);
+  gridding->add_option("--min-points", dem.grid.min_points, "Returns a cell needs for a height")->check(CLI::Range(1, 1000000));
+  gridding->add_option("--unit", dem.unit, "Unit of the cloud's coordinates")->check(CLI::IsMember({"m", "cm", "mm"}));
+  on_run(*gridding, exit_code, [] { return run_dem(dem); });
 }
 
 }  // namespace scanbus::cli

@@ -13,6 +13,7 @@
 
 #include "cloud_files.hpp"
 #include "commands.hpp"
+#include "scanbus/cloud_dem/geotiff.hpp"
 #include "scanbus/ground_evaluation/flight_evaluation.hpp"
 #include "mav_messages.hpp"
 #include "scanbus/config.hpp"
@@ -135,7 +136,7 @@ struct EvalMavOptions {
   std::vector<std::string> logs;
   std::vector<int> scenarios{1, 2, 3, 4};
   FlightOptions flight;
-  std::string out;  // a folder for each flight's clouds (PCD) and their top views (PNG)
+  std::string out;  // a folder for each flight's clouds (PCD), their top views (PNG) and the fused elevation GeoTIFF
   bool json = false;
   bool no_ground = false;
   std::string config;  // a pose_estimation service config whose fusion settings to evaluate
@@ -143,8 +144,10 @@ struct EvalMavOptions {
 
 // FLIGHT_SOURCE.pcd and .png for each of the three heights, e.g. scenario_IV_fused.pcd, and
 // FLIGHT_heights.csv: the truth, the four heights, the scan's ground clearance and the fused
-// height's sigma at every pose, for plotting.
-void write_clouds(const std::string& folder, const std::string& flight, const FlightEvaluation& evaluation) {
+// height's sigma at every pose, for plotting; FLIGHT_fused_dem.tif: the fused cloud's
+// elevation grid, georeferenced from the log's origin.
+void write_clouds(const std::string& folder, const std::string& flight, const FlightEvaluation& evaluation,
+                  const sensor_replay::MavLog& log) {
   std::string stem = flight;
   std::replace(stem.begin(), stem.end(), ' ', '_');
   stem = stem.substr(stem.find_last_of('/') + 1);
@@ -164,6 +167,10 @@ void write_clouds(const std::string& folder, const std::string& flight, const Fl
     write_cloud_png(path + ".png", points, flight + ", height from " + ground_evaluation::kHeightSourceNames[source],
                     CloudView::Top, false);
   }
+  if (evaluation.elevation.filled() > 0) {
+    const auto& origin = log.meta_of("origin", 3);
+    cloud_dem::write_geotiff(folder + "/" + stem + "_fused_dem.tif", evaluation.elevation, {origin[0], origin[1], origin[2]});
+  }
 }
 
 nlohmann::json evaluation_json(const std::string& name, const FlightEvaluation& e) {
@@ -177,6 +184,12 @@ nlohmann::json evaluation_json(const std::string& name, const FlightEvaluation& 
                       {"fusion_ms_per_update", e.fusion_ms_per_update},
                       {"fused_within_sigma", {{"1", e.fused_within_sigma[0]}, {"2", e.fused_within_sigma[1]}}}};
   if (!e.has_ground) json["ground_error_note"] = "not measured: the log does not carry its true ground (META scenario)";
+  const auto& grid = e.elevation;
+  json["elevation_grid"] = {{"cell_m", grid.cell_size}, {"columns", grid.columns}, {"rows", grid.rows}, {"cells", grid.filled()}};
+  if (e.has_ground && grid.filled() > 0)
+    json["elevation_grid"]["error_m"] = {{"rmse", e.elevation_error.rmse}, {"median", e.elevation_error.median},
+                                         {"p95", e.elevation_error.p95}, {"bias", e.elevation_error.bias},
+                                         {"cells", e.elevation_error.points}};
   for (int source = 0; source < ground_evaluation::kHeightSources; ++source) {
     if (std::isnan(e.height_rmse[source])) continue;  // no such height in this log (GPS)
     json["height_rmse_m"][ground_evaluation::kHeightSourceNames[source]] = e.height_rmse[source];
@@ -242,7 +255,12 @@ int run_eval_mav(EvalMavOptions options) {
       std::cerr << "scanbus eval mav: " << name << ": " << e.what() << "\n";
       return 2;
     }
-    if (!options.out.empty()) write_clouds(options.out, name, evaluations.back());
+    try {
+      if (!options.out.empty()) write_clouds(options.out, name, evaluations.back(), log);
+    } catch (const cloud_dem::GeoTiffError& e) {
+      std::cerr << "scanbus eval mav: " << name << ": " << e.what() << "\n";
+      return 2;
+    }
   }
   if (progress) std::printf("\r%60s\r", "");
   nlohmann::json results = nlohmann::json::array();
@@ -331,7 +349,8 @@ void add_eval_command(CLI::App& app, int& exit_code) {
       ->delimiter(',')
       ->check(CLI::Range(1, 4));
   add_flight_options(*flights, mav.flight);
-  flights->add_option("--out", mav.out, "Folder for each flight's clouds (PCD) and height-coloured top views (PNG)")
+  flights->add_option("--out", mav.out, "Folder for each flight's clouds (PCD), height-coloured top views (PNG), heights (CSV) and the fused "
+                   "cloud's elevation grid (GeoTIFF)")
       ->check(CLI::ExistingDirectory);
   flights->add_flag("--json", mav.json, "One JSON array, no progress");
   flights->add_option("--config", mav.config, "A pose_estimation service config (config/services/pose_estimation.yaml) "

@@ -25,6 +25,24 @@ scan_matcher::Scan matcher_scan(const sensor_replay::LaserRecord& record) {
   return {record.angle_min, record.angle_increment, record.ranges};
 }
 
+// The fused cloud as an elevation grid, and each cell's height against the true ground at
+// its centre (on a slope a cell's mean lies off its centre's height by the slope times the
+// returns' mean offset from the centre: part of the grid's error, as a user gets it).
+void grid_fused_cloud(const FlightEvaluationSettings& settings, FlightEvaluation& result) {
+  const auto& fused = result.cloud[static_cast<int>(HeightSource::Fused)];
+  if (fused.empty()) return;
+  result.elevation = cloud_assembly::grid_elevation(fused, settings.elevation);
+  if (!result.has_ground) return;
+  std::vector<Eigen::Vector3f> cells;
+  for (size_t row = 0; row < result.elevation.rows; ++row)
+    for (size_t column = 0; column < result.elevation.columns; ++column) {
+      const float height = result.elevation.height[result.elevation.index(row, column)];
+      const Eigen::Vector2d centre = result.elevation.centre(row, column);
+      if (std::isfinite(height)) cells.emplace_back(static_cast<float>(centre.x()), static_cast<float>(centre.y()), height);
+    }
+  result.elevation_error = ground_model_error(cells, settings.true_ground);
+}
+
 }  // namespace
 
 double HeightSeries::at(double stamp) const {
@@ -190,6 +208,7 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
   result.has_ground = static_cast<bool>(settings.true_ground);
   if (result.has_ground)
     for (int source = 0; source < sources; ++source) result.ground[source] = ground_model_error(result.cloud[source], settings.true_ground);
+  grid_fused_cloud(settings, result);
   const auto boxes = log.meta.find("boxes");
   result.has_boxes = boxes != log.meta.end() && boxes->second.size() >= 2;
   if (result.has_boxes) {

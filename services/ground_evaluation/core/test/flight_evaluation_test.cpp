@@ -121,6 +121,34 @@ TEST(FlightEvaluation, TheGroundModelIsScoredAgainstTheSimulatedGround) {
   EXPECT_FALSE(evaluate_flight(log, {}).has_ground);
 }
 
+// The fused cloud's elevation grid over a slope with a mound: every cell of the grid holds
+// the mean of its returns, and the cells follow the terrain (not a flat ground).
+TEST(FlightEvaluation, TheElevationGridFollowsTheTerrain) {
+  mav_sim::FlightSettings settings;
+  settings.duration = 20;
+  settings.terrain.slope = {0.06, -0.03};
+  settings.terrain.mounds = {{{5, 0}, 1.5, 0.3}};
+  const auto log = mav_sim::simulate_flight(settings);
+  const auto world = mav_sim::world_of_log(log);
+  ASSERT_TRUE(world.has_value());
+  FlightEvaluationSettings evaluation;
+  evaluation.true_ground = [&](const Eigen::Vector2d& xy) { return world->scored_height(xy, 0.1); };
+  const FlightEvaluation result = evaluate_flight(log, evaluation);
+  const auto& grid = result.elevation;
+  ASSERT_GT(grid.filled(), 50u);
+  size_t counted = 0;
+  for (uint32_t count : grid.count) counted += count;
+  EXPECT_GT(counted, result.cloud[static_cast<int>(HeightSource::Fused)].size() * 9 / 10);  // sparse edge cells left out
+  const auto& error = result.elevation_error;
+  std::printf("elevation grid: %zu cells, RMSE %.3f m, p95 %.3f m, bias %+.3f m, slope %.4f %.4f (true %.4f %.4f)\n",
+              error.points, error.rmse, error.p95, error.bias, error.slope.x(), error.slope.y(), error.true_slope.x(),
+              error.true_slope.y());
+  EXPECT_EQ(error.points, grid.filled());
+  EXPECT_LT(error.rmse, 0.1);
+  EXPECT_LT(error.slope_error, 0.15);  // the grid keeps the terrain's tilt
+  EXPECT_LT(error.rmse, result.ground[static_cast<int>(HeightSource::Fused)].rmse + 0.02);
+}
+
 // Scenario IV over a slope with a mound beside the boxes: the boxes are found on the ground
 // under them and measured, in their tops, to centimetres.
 TEST(FlightEvaluation, TheBoxesAreFoundOnSlopedGround) {

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "scanbus/cloud_assembly/cloud_builder.hpp"
+#include "scanbus/cloud_assembly/elevation_grid.hpp"
 #include "scanbus/ground_evaluation/box_evaluation.hpp"
 #include "scanbus/pose_estimation/height_fusion.hpp"
 #include "scanbus/scan_matcher/pl_icp.hpp"
@@ -34,6 +35,7 @@ struct FlightEvaluationSettings {
   bool ground_clearance = true;  // false: the fusion of barometer and scan matcher alone
   cloud_assembly::ScanGating gating{30.0, M_PI / 2};  // the paper: 30 m, 90 degrees
   BoxSearchSettings boxes;
+  cloud_assembly::ElevationGridSettings elevation;  // the fused cloud's elevation grid
   // The true ground's height at (x, y), none where a point is not scored (near an edge); empty
   // when the flight's ground is not known (a real flight): no ground-model error then.
   std::function<std::optional<double>(const Eigen::Vector2d&)> true_ground;
@@ -87,6 +89,8 @@ struct FlightEvaluation {
   bool has_ground = false;            // the true ground is known (settings.true_ground)
   GroundModelError ground[kHeightSources];  // the cloud built with each height against it
   std::vector<Eigen::Vector3f> cloud[kHeightSources];  // every return in the map frame, by HeightSource
+  cloud_assembly::ElevationGrid elevation;  // of the fused cloud (no cells when it is empty)
+  GroundModelError elevation_error;         // its cells' heights at their centres against the true ground
   std::vector<HeightSample> heights;      // one per pose
 };
 
