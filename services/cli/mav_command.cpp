@@ -132,6 +132,8 @@ std::string performance_text(const BoxEvaluation& result) {
   return text;
 }
 
+constexpr double kEdgeMargin = 0.1;  // m: ground points this near a box's edge or a step are not scored
+
 struct EvalMavOptions {
   std::vector<std::string> logs;
   std::vector<int> scenarios{1, 2, 3, 4};
@@ -173,6 +175,14 @@ void write_clouds(const std::string& folder, const std::string& flight, const Fl
   }
 }
 
+nlohmann::json ground_error_json(const ground_evaluation::GroundModelError& g) {
+  nlohmann::json json{{"rmse", g.rmse}, {"median", g.median}, {"p95", g.p95}, {"bias", g.bias}, {"points", g.points}};
+  if (!std::isnan(g.slope_error))
+    json.update({{"slope", {g.slope.x(), g.slope.y()}}, {"true_slope", {g.true_slope.x(), g.true_slope.y()}},
+                 {"slope_error", g.slope_error}});
+  return json;
+}
+
 nlohmann::json evaluation_json(const std::string& name, const FlightEvaluation& e) {
   nlohmann::json json{{"flight", name},
                       {"scans", e.scans},
@@ -186,21 +196,11 @@ nlohmann::json evaluation_json(const std::string& name, const FlightEvaluation& 
   if (!e.has_ground) json["ground_error_note"] = "not measured: the log does not carry its true ground (META scenario)";
   const auto& grid = e.elevation;
   json["elevation_grid"] = {{"cell_m", grid.cell_size}, {"columns", grid.columns}, {"rows", grid.rows}, {"cells", grid.filled()}};
-  if (e.has_ground && grid.filled() > 0)
-    json["elevation_grid"]["error_m"] = {{"rmse", e.elevation_error.rmse}, {"median", e.elevation_error.median},
-                                         {"p95", e.elevation_error.p95}, {"bias", e.elevation_error.bias},
-                                         {"cells", e.elevation_error.points}};
+  if (e.has_ground && grid.filled() > 0) json["elevation_grid"]["error_m"] = ground_error_json(e.elevation_error);
   for (int source = 0; source < ground_evaluation::kHeightSources; ++source) {
     if (std::isnan(e.height_rmse[source])) continue;  // no such height in this log (GPS)
     json["height_rmse_m"][ground_evaluation::kHeightSourceNames[source]] = e.height_rmse[source];
-    if (e.has_ground) {
-      const auto& g = e.ground[source];
-      auto& ground = json["ground_error_m"][ground_evaluation::kHeightSourceNames[source]];
-      ground = {{"rmse", g.rmse}, {"median", g.median}, {"p95", g.p95}, {"bias", g.bias}, {"points", g.points}};
-      if (!std::isnan(g.slope_error))
-        ground.update({{"slope", {g.slope.x(), g.slope.y()}}, {"true_slope", {g.true_slope.x(), g.true_slope.y()}},
-                       {"slope_error", g.slope_error}});
-    }
+    if (e.has_ground) json["ground_error_m"][ground_evaluation::kHeightSourceNames[source]] = ground_error_json(e.ground[source]);
     if (e.has_boxes) json["boxes"][ground_evaluation::kHeightSourceNames[source]] = boxes_json(e.boxes[source]);
   }
   return json;
@@ -242,7 +242,6 @@ int run_eval_mav(EvalMavOptions options) {
       ground_evaluation::FlightEvaluationSettings settings = base;
       settings.ground_clearance = settings.ground_clearance && !options.no_ground;
       if (auto world = mav_sim::world_of_log(log)) {
-        constexpr double kEdgeMargin = 0.1;  // m: points this near a box's edge or a step are not scored
         settings.true_ground = [world = std::move(*world)](const Eigen::Vector2d& xy) {
           return world.scored_height(xy, kEdgeMargin);
         };
@@ -324,6 +323,42 @@ int run_eval_boxes(const EvalBoxesOptions& options) {
   return result.ok ? 0 : 1;
 }
 
+struct EvalGroundOptions {
+  std::string cloud, log, unit = "m";
+  bool json = false;
+};
+
+// A map-frame ground cloud (from the services over DDS, or any tool) against the true ground
+// of the simulated flight it was built from.
+int run_eval_ground(const EvalGroundOptions& options) {
+  try {
+    const auto world = mav_sim::world_of_log(sensor_replay::load_mav_log(options.log));
+    if (!world) {
+      std::cerr << "scanbus eval ground: " << options.log << ": not measured: the log does not carry its true ground "
+                << "(META scenario: a simulated flight's)\n";
+      return 2;
+    }
+    const auto cloud = read_cloud(options.cloud, metres_per_unit(options.unit));
+    const auto error = ground_evaluation::ground_model_error(
+        cloud, [&](const Eigen::Vector2d& xy) { return world->scored_height(xy, kEdgeMargin); });
+    if (options.json) {
+      std::cout << ground_error_json(error).dump() << "\n";
+    } else {
+      std::printf("%zu of %zu points scored: height error RMSE %.3f m, median %.3f m, p95 %.3f m, bias %+.3f m\n",
+                  error.points, cloud.size(), error.rmse, error.median, error.p95, error.bias);
+      if (!std::isnan(error.slope_error))
+        std::printf("slope %.4f %.4f against the true %.4f %.4f: %.1f %% off\n", error.slope.x(), error.slope.y(),
+                    error.true_slope.x(), error.true_slope.y(), 100 * error.slope_error);
+    }
+    return error.points > 0 ? 0 : 1;
+  } catch (const sensor_replay::MavLogError& e) {
+    std::cerr << "scanbus eval ground: " << e.what() << "\n";
+  } catch (const CloudFileError& e) {
+    std::cerr << "scanbus eval ground: " << e.what() << "\n";
+  }
+  return 2;
+}
+
 }  // namespace
 
 void add_mav_sim_command(CLI::App& sim, int& exit_code) {
@@ -372,6 +407,17 @@ void add_eval_command(CLI::App& app, int& exit_code) {
   measure->add_option("--unit", boxes.unit, "Unit of the cloud's coordinates")->check(CLI::IsMember({"m", "cm", "mm"}));
   measure->add_flag("--json", boxes.json, "One JSON object");
   on_run(*measure, exit_code, [] { return run_eval_boxes(boxes); });
+
+  static EvalGroundOptions ground;
+  auto* scoring = eval->add_subcommand("ground", "Score a map-frame ground cloud against the true ground of the simulated "
+                                       "MAV flight it was built from (height error, tilt)");
+  scoring->add_option("cloud", ground.cloud, "PCD, PLY or XYZ cloud in the map frame")->required()->check(CLI::ExistingFile);
+  scoring->add_option("--log", ground.log, "The simulated MAV log (text or .mcap) whose META describes the ground")
+      ->required()
+      ->check(CLI::ExistingFile);
+  scoring->add_option("--unit", ground.unit, "Unit of the cloud's coordinates")->check(CLI::IsMember({"m", "cm", "mm"}));
+  scoring->add_flag("--json", ground.json, "One JSON object");
+  on_run(*scoring, exit_code, [] { return run_eval_ground(ground); });
 }
 
 }  // namespace scanbus::cli

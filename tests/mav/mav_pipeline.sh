@@ -11,7 +11,10 @@
 #   mav_pipeline.sh SCANBUS CONFIG SAMPLE    a recorded sample (tests/data/*.mcap, truth
 #       on rt/truth/pose) replayed by 'scanbus replay'; asserts that the services give what
 #       'scanbus eval mav' gives in one process on the same sample (fused RMSE within 15 %
-#       or 1 cm, box P within 1 point) and that the fused height beats the barometer's.
+#       or 1 cm, box P within 1 point) and that the fused height beats the barometer's. Over
+#       terrain (the log's META carries its ground) also the window cloud's height error
+#       against the true ground ('scanbus eval ground'): within 15 % or 1 cm of the
+#       in-process one, under 10 cm, and the terrain's tilt within 20 %.
 set -uo pipefail
 source "$(dirname "$0")/../integration/lib.sh"
 scanbus=$1
@@ -52,6 +55,7 @@ grep -h "samples lost" "$work"/*.log | tail -5  # where poses went missing, if a
 "$scanbus" cloud save --window 1700000000,1700000180 --out "$work/window.pcd" --timeout 10 || fail "no assemble reply"
 "$scanbus" eval boxes "$work/window.pcd" --truth 0.4,0.6 --json > "$work/boxes_window.json"
 "$scanbus" eval boxes "$work/assembled.pcd" --truth 0.4,0.6 --json > "$work/boxes_assembled.json"
+"$scanbus" eval ground "$work/window.pcd" --log "$flight" --json > "$work/ground_window.json" 2> "$work/ground_window.log"
 "$scanbus" cloud render "$work/assembled.pcd" --view side --out "$work/side.png" > /dev/null || fail "render"
 
 python3 - "$work" "$sample" <<'PY' || fail "figures"
@@ -88,6 +92,16 @@ if "boxes" in reference:
     expected_p = reference["boxes"]["fused"].get("performance_percent")
     print(f"boxes P: window {window.get('performance_percent', 'none')} %, continuous cloud "
           f"{assembled.get('performance_percent', 'none')} % (in one process {expected_p} %)")
+if "ground_error_m" in reference:  # a flight over terrain: the services' cloud against the true ground
+    ground = json.load(open(f"{work}/ground_window.json"))
+    expected = reference["ground_error_m"]["fused"]
+    print(f"ground model over DDS: RMSE {ground['rmse']:.3f} m, bias {ground['bias']:+.3f} m, slope off "
+          f"{100 * ground.get('slope_error', float('nan')):.1f} % (in one process {expected['rmse']:.3f} m, "
+          f"{expected['bias']:+.3f} m, {100 * expected.get('slope_error', float('nan')):.1f} %)")
+    assert abs(ground["rmse"] - expected["rmse"]) <= max(0.15 * expected["rmse"], 0.01), "ground model differs"
+    assert ground["rmse"] < 0.1, "ground model over 10 cm RMSE from the true ground"
+    if "slope_error" in expected:
+        assert ground["slope_error"] < 0.2, "the terrain's tilt is lost"
 if sample:
     assert abs(rmse - base["fused"]) <= max(0.15 * base["fused"], 0.01), "fused height differs from the in-process one"
     assert rmse < base["barometer"], "fused height no better than the barometer alone"
