@@ -14,7 +14,8 @@
 #       or 1 cm, box P within 1 point) and that the fused height beats the barometer's. Over
 #       terrain (the log's META carries its ground) also the window cloud's height error
 #       against the true ground ('scanbus eval ground'): within 15 % or 1 cm of the
-#       in-process one, under 10 cm, and the terrain's tilt within 20 %.
+#       in-process one, under 10 cm, and the terrain's tilt within 20 %; and the elevation
+#       grid on rt/cloud/elevation against it, within 15 % or 1 cm of the in-process grid's.
 set -uo pipefail
 source "$(dirname "$0")/../integration/lib.sh"
 scanbus=$1
@@ -56,6 +57,8 @@ grep -h "samples lost" "$work"/*.log | tail -5  # where poses went missing, if a
 "$scanbus" eval boxes "$work/window.pcd" --truth 0.4,0.6 --json > "$work/boxes_window.json"
 "$scanbus" eval boxes "$work/assembled.pcd" --truth 0.4,0.6 --json > "$work/boxes_assembled.json"
 "$scanbus" eval ground "$work/window.pcd" --log "$flight" --json > "$work/ground_window.json" 2> "$work/ground_window.log"
+"$scanbus" cloud save --topic rt/cloud/elevation --out "$work/elevation.pcd" --timeout 10 > /dev/null || fail "no rt/cloud/elevation"
+"$scanbus" eval ground "$work/elevation.pcd" --log "$flight" --json > "$work/ground_elevation.json" 2> "$work/ground_elevation.log"
 "$scanbus" cloud render "$work/assembled.pcd" --view side --out "$work/side.png" > /dev/null || fail "render"
 
 python3 - "$work" "$sample" <<'PY' || fail "figures"
@@ -100,6 +103,10 @@ if "ground_error_m" in reference:  # a flight over terrain: the services' cloud 
           f"{expected['bias']:+.3f} m, {100 * expected.get('slope_error', float('nan')):.1f} %)")
     assert abs(ground["rmse"] - expected["rmse"]) <= max(0.15 * expected["rmse"], 0.01), "ground model differs"
     assert ground["rmse"] < 0.1, "ground model over 10 cm RMSE from the true ground"
+    grid, expected_grid = json.load(open(f"{work}/ground_elevation.json")), reference["elevation_grid"]["error_m"]
+    print(f"elevation grid over DDS: {grid['points']} cells, RMSE {grid['rmse']:.3f} m (in one process "
+          f"{expected_grid['points']} cells, {expected_grid['rmse']:.3f} m)")
+    assert abs(grid["rmse"] - expected_grid["rmse"]) <= max(0.15 * expected_grid["rmse"], 0.01), "elevation grid differs"
     if "slope_error" in expected:
         assert ground["slope_error"] < 0.2, "the terrain's tilt is lost"
 if sample:

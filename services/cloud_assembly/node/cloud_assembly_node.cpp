@@ -1,7 +1,7 @@
 // Thin DDS node: scans wait in a queue until the transform at their stamp is known (like
 // tf2's message filter), then go into the continuous cloud and the window of recent scans.
-// The continuous cloud is published every period when it grew; requests are answered
-// from the window.
+// The continuous cloud and its elevation grid are published every period when it grew;
+// requests are answered from the window.
 #include "cloud_assembly_node.hpp"
 
 #include <algorithm>
@@ -9,6 +9,7 @@
 
 #include "scanbus/clock.hpp"
 #include "scanbus/cloud_assembly/cloud_builder.hpp"
+#include "scanbus/cloud_assembly/elevation_grid.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/point_cloud.hpp"
 #include "scanbus/transforms/transform_buffer.hpp"
@@ -29,6 +30,7 @@ struct Settings {
   double publish_period;
   double transform_timeout;
   double cache_time;
+  ElevationGridSettings elevation;  // cell_size 0: no grid published
 };
 
 Settings read_settings(const Config& config) {
@@ -43,6 +45,9 @@ Settings read_settings(const Config& config) {
   s.publish_period = config.number("publish_period", 1.0, 0.05, 3600);
   s.transform_timeout = config.number("transform_timeout", 2.0, 0.0, 600);
   s.cache_time = config.number("cache_time", 30.0, 1.0, 3600);
+  const Config elevation = config.section("elevation");
+  s.elevation.cell_size = elevation.number("cell_size", 0.5, 0.0, 1000);
+  s.elevation.min_points = static_cast<size_t>(elevation.integer("min_points", 3, 1, 1000000));
   return s;
 }
 
@@ -87,6 +92,7 @@ class CloudAssembly : public Service {
         continuous_(settings_.voxel_size, settings_.max_voxels),
         window_(settings_.window_age, settings_.window_points),
         assembled_(context.participant, "rt/cloud/assembled"),
+        elevation_(context.participant, "rt/cloud/elevation"),
         replies_(context.participant, "rt/cloud/assemble_reply") {
     tf_static_ = std::make_unique<Reader<tf2_msgs::msg::TFMessagePubSubType>>(
         context.participant, "rt/tf_static", [this](const auto& m, const auto&) { receive(m, true); });
@@ -219,6 +225,31 @@ class CloudAssembly : public Service {
     }
     assembled_.write(to_coloured_point_cloud2(points, colours_by_height(points), settings_.fixed_frame, to_stamp(stamp)));
     ++health_.counter("clouds_published");
+    if (settings_.elevation.cell_size > 0) publish_elevation(points, stamp);
+  }
+
+  // One point per cell with a height: the cell's centre, its mean height, the spread of its
+  // voxels' heights in the fourth field ("stdev").
+  void publish_elevation(const std::vector<Eigen::Vector3f>& points, double stamp) {
+    ElevationGrid grid;
+    try {
+      grid = grid_elevation(points, settings_.elevation);
+    } catch (const ElevationGridError& e) {
+      health_.error(std::string("elevation grid not published: ") + e.what());
+      return;
+    }
+    std::vector<CloudPoint> cells;
+    cells.reserve(grid.filled());
+    for (size_t row = 0; row < grid.rows; ++row)
+      for (size_t column = 0; column < grid.columns; ++column) {
+        const size_t i = grid.index(row, column);
+        if (grid.count[i] == 0) continue;
+        const Eigen::Vector2d centre = grid.centre(row, column);
+        cells.push_back({Eigen::Vector3f(static_cast<float>(centre.x()), static_cast<float>(centre.y()), grid.height[i]),
+                         grid.stdev[i]});
+      }
+    elevation_.write(to_point_cloud2(cells, settings_.fixed_frame, to_stamp(stamp), "stdev"));
+    health_.counter("elevation_cells") = cells.size();
   }
 
   std::shared_ptr<spdlog::logger> log_;
@@ -231,7 +262,7 @@ class CloudAssembly : public Service {
   std::deque<PendingScan> pending_;
   double newest_ = 0;
   size_t published_size_ = 0;
-  Writer<sensor_msgs::msg::PointCloud2PubSubType> assembled_;
+  Writer<sensor_msgs::msg::PointCloud2PubSubType> assembled_, elevation_;
   Writer<scanbus::msg::AssembleReplyPubSubType> replies_;
   std::unique_ptr<Reader<tf2_msgs::msg::TFMessagePubSubType>> tf_static_, tf_;
   std::unique_ptr<Reader<sensor_msgs::msg::LaserScanPubSubType>> scans_;

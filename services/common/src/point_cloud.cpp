@@ -51,8 +51,8 @@ sensor_msgs::msg::PointCloud2 sized_cloud(const char* fourth_field, size_t count
 }  // namespace
 
 sensor_msgs::msg::PointCloud2 to_point_cloud2(const std::vector<CloudPoint>& points, const std::string& frame_id,
-                                              const builtin_interfaces::msg::Time& stamp) {
-  sensor_msgs::msg::PointCloud2 cloud = sized_cloud("intensity", 0, frame_id, stamp);
+                                              const builtin_interfaces::msg::Time& stamp, const char* fourth_field) {
+  sensor_msgs::msg::PointCloud2 cloud = sized_cloud(fourth_field, 0, frame_id, stamp);
   cloud.width(static_cast<uint32_t>(points.size()));
   cloud.row_step(kPointStep * cloud.width());
   // CloudPoint's bytes are the cloud's layout (x y z intensity float32): one copy, no

@@ -47,6 +47,8 @@ const std::vector<TopicInfo>& topic_catalogue() {
        "cloud_assembly, RViz2", "Static transforms (laser to base_link) from config."},
       {"rt/cloud/assembled", "sensor_msgs::msg::dds_::PointCloud2_", kLatched, "cloud_assembly",
        "recorder, RViz2", "Accumulated ground-surface cloud in the map frame."},
+      {"rt/cloud/elevation", "sensor_msgs::msg::dds_::PointCloud2_", kLatched, "cloud_assembly", "recorder, RViz2",
+       "The assembled cloud's elevation grid: one point per cell with a height (x y z stdev, map frame)."},
       {"rt/cloud/assemble_request", "scanbus::msg::dds_::AssembleRequest_", kReliable, "any client",
        "cloud_assembly", "Ask for the cloud of a time window (request id correlates the reply)."},
       {"rt/cloud/assemble_reply", "scanbus::msg::dds_::AssembleReply_", kReliable, "cloud_assembly",

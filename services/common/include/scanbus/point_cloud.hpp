@@ -11,8 +11,10 @@
 
 namespace scanbus {
 
+// `fourth_field` names what CloudPoint::intensity carries (e.g. "stdev" for an elevation grid).
 sensor_msgs::msg::PointCloud2 to_point_cloud2(const std::vector<CloudPoint>& points, const std::string& frame_id,
-                                              const builtin_interfaces::msg::Time& stamp);
+                                              const builtin_interfaces::msg::Time& stamp,
+                                              const char* fourth_field = "intensity");
 
 // x y z rgb (rgb as PCL packs it: 0x00RRGGBB in the bytes of a float32), the layout RViz2
 // and Foxglove colour by. `colours` has one entry per point.
