@@ -102,17 +102,21 @@ TEST(GroundModelError, ComparesTheCloudsTiltWithTheTerrains) {
   EXPECT_NEAR(level.slope.x(), 0.045, 1e-6);
 }
 
+// A simulated flight evaluated with its true ground (points 0.1 m from an edge not scored).
+static FlightEvaluation evaluate_against_its_ground(const sensor_replay::MavLog& log) {
+  const auto world = mav_sim::world_of_log(log);
+  FlightEvaluationSettings evaluation;
+  if (world) evaluation.true_ground = [&](const Eigen::Vector2d& xy) { return world->scored_height(xy, 0.1); };
+  return evaluate_flight(log, evaluation);
+}
+
 // Over flat ground the fused cloud lies within centimetres of the truth; over a terrain the
 // same evaluation measures how far the model is from it (issue 19's figures).
 TEST(FlightEvaluation, TheGroundModelIsScoredAgainstTheSimulatedGround) {
   mav_sim::FlightSettings settings;
   settings.duration = 20;
   const auto log = mav_sim::simulate_flight(settings);
-  const auto world = mav_sim::world_of_log(log);
-  ASSERT_TRUE(world.has_value());
-  FlightEvaluationSettings evaluation;
-  evaluation.true_ground = [&](const Eigen::Vector2d& xy) { return world->scored_height(xy, 0.1); };
-  const FlightEvaluation result = evaluate_flight(log, evaluation);
+  const FlightEvaluation result = evaluate_against_its_ground(log);
   ASSERT_TRUE(result.has_ground);
   const auto& fused = result.ground[static_cast<int>(HeightSource::Fused)];
   EXPECT_EQ(fused.points, result.cloud[static_cast<int>(HeightSource::Fused)].size());  // flat: every point scored
@@ -128,12 +132,8 @@ TEST(FlightEvaluation, TheElevationGridFollowsTheTerrain) {
   settings.duration = 20;
   settings.terrain.slope = {0.06, -0.03};
   settings.terrain.mounds = {{{5, 0}, 1.5, 0.3}};
-  const auto log = mav_sim::simulate_flight(settings);
-  const auto world = mav_sim::world_of_log(log);
-  ASSERT_TRUE(world.has_value());
-  FlightEvaluationSettings evaluation;
-  evaluation.true_ground = [&](const Eigen::Vector2d& xy) { return world->scored_height(xy, 0.1); };
-  const FlightEvaluation result = evaluate_flight(log, evaluation);
+  const FlightEvaluation result = evaluate_against_its_ground(mav_sim::simulate_flight(settings));
+  ASSERT_TRUE(result.has_ground);
   const auto& grid = result.elevation;
   ASSERT_GT(grid.filled(), 50u);
   size_t counted = 0;
