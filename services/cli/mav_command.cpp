@@ -325,6 +325,7 @@ int run_eval_boxes(const EvalBoxesOptions& options) {
 
 struct EvalGroundOptions {
   std::string cloud, log, unit = "m";
+  double cells = 0;  // > 0: the points are an elevation grid's cells of this size
   bool json = false;
 };
 
@@ -339,8 +340,11 @@ int run_eval_ground(const EvalGroundOptions& options) {
       return 2;
     }
     const auto cloud = read_cloud(options.cloud, metres_per_unit(options.unit));
-    const auto error = ground_evaluation::ground_model_error(
-        cloud, [&](const Eigen::Vector2d& xy) { return world->scored_height(xy, kEdgeMargin); });
+    std::function<std::optional<double>(const Eigen::Vector2d&)> truth = [&](const Eigen::Vector2d& xy) {
+      return world->scored_height(xy, kEdgeMargin);
+    };
+    if (options.cells > 0) truth = ground_evaluation::cell_average_truth(truth, options.cells);
+    const auto error = ground_evaluation::ground_model_error(cloud, truth);
     if (options.json) {
       std::cout << ground_error_json(error).dump() << "\n";
     } else {
@@ -416,6 +420,9 @@ void add_eval_command(CLI::App& app, int& exit_code) {
       ->required()
       ->check(CLI::ExistingFile);
   scoring->add_option("--unit", ground.unit, "Unit of the cloud's coordinates")->check(CLI::IsMember({"m", "cm", "mm"}));
+  scoring->add_option("--cells", ground.cells, "The points are an elevation grid's cells this wide (m, rt/cloud/elevation): "
+                      "each against the true ground averaged over its cell; cells an edge crosses are not scored")
+      ->check(CLI::PositiveNumber);
   scoring->add_flag("--json", ground.json, "One JSON object");
   on_run(*scoring, exit_code, [] { return run_eval_ground(ground); });
 }

@@ -58,7 +58,7 @@ grep -h "samples lost" "$work"/*.log | tail -5  # where poses went missing, if a
 "$scanbus" eval boxes "$work/assembled.pcd" --truth 0.4,0.6 --json > "$work/boxes_assembled.json"
 "$scanbus" eval ground "$work/window.pcd" --log "$flight" --json > "$work/ground_window.json" 2> "$work/ground_window.log"
 "$scanbus" cloud save --topic rt/cloud/elevation --out "$work/elevation.pcd" --timeout 10 > /dev/null || fail "no rt/cloud/elevation"
-"$scanbus" eval ground "$work/elevation.pcd" --log "$flight" --json > "$work/ground_elevation.json" 2> "$work/ground_elevation.log"
+"$scanbus" eval ground "$work/elevation.pcd" --log "$flight" --cells 0.5 --json > "$work/ground_elevation.json" 2> "$work/ground_elevation.log"
 "$scanbus" cloud render "$work/assembled.pcd" --view side --out "$work/side.png" > /dev/null || fail "render"
 
 python3 - "$work" "$sample" <<'PY' || fail "figures"

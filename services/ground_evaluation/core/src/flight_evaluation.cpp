@@ -25,9 +25,8 @@ scan_matcher::Scan matcher_scan(const sensor_replay::LaserRecord& record) {
   return {record.angle_min, record.angle_increment, record.ranges};
 }
 
-// The fused cloud as an elevation grid, and each cell's height against the true ground at
-// its centre (on a slope a cell's mean lies off its centre's height by the slope times the
-// returns' mean offset from the centre: part of the grid's error, as a user gets it).
+// The fused cloud as an elevation grid, and each cell's height against the true ground
+// averaged over the cell.
 void grid_fused_cloud(const FlightEvaluationSettings& settings, FlightEvaluation& result) {
   const auto& fused = result.cloud[static_cast<int>(HeightSource::Fused)];
   if (fused.empty()) return;
@@ -40,10 +39,26 @@ void grid_fused_cloud(const FlightEvaluationSettings& settings, FlightEvaluation
       const Eigen::Vector2d centre = result.elevation.centre(row, column);
       if (std::isfinite(height)) cells.emplace_back(static_cast<float>(centre.x()), static_cast<float>(centre.y()), height);
     }
-  result.elevation_error = ground_model_error(cells, settings.true_ground);
+  result.elevation_error = ground_model_error(cells, cell_average_truth(settings.true_ground, settings.elevation.cell_size));
 }
 
 }  // namespace
+
+std::function<std::optional<double>(const Eigen::Vector2d&)> cell_average_truth(
+    std::function<std::optional<double>(const Eigen::Vector2d&)> true_ground, double cell_size) {
+  const int samples = std::max(5, static_cast<int>(std::ceil(cell_size / 0.1)));
+  return [true_ground = std::move(true_ground), cell_size, samples](const Eigen::Vector2d& centre) -> std::optional<double> {
+    double sum = 0;
+    for (int i = 0; i < samples; ++i)
+      for (int j = 0; j < samples; ++j) {
+        const Eigen::Vector2d offset((i + 0.5) / samples - 0.5, (j + 0.5) / samples - 0.5);
+        const auto height = true_ground(centre + cell_size * offset);
+        if (!height) return std::nullopt;
+        sum += *height;
+      }
+    return sum / (samples * samples);
+  };
+}
 
 double HeightSeries::at(double stamp) const {
   const auto later = std::lower_bound(samples_.begin(), samples_.end(), stamp,

@@ -54,6 +54,14 @@ struct GroundModelError {
 GroundModelError ground_model_error(const std::vector<Eigen::Vector3f>& cloud,
                                     const std::function<std::optional<double>(const Eigen::Vector2d&)>& true_ground);
 
+// The truth for an elevation grid's cells: the true ground averaged over the square cell
+// centred at a point (what a cell's mean height estimates), none where any part of the cell
+// is not scored: a cell an edge crosses mixes two levels and is no measure of the grid.
+// Sampled every 0.1 m or closer: an edge crossing the cell passes within 0.071 m of a sample,
+// so a truth that leaves out 0.1 m around its edges (scored_height) catches it.
+std::function<std::optional<double>(const Eigen::Vector2d&)> cell_average_truth(
+    std::function<std::optional<double>(const Eigen::Vector2d&)> true_ground, double cell_size);
+
 // A height over time, interpolated linearly between samples (held beyond them); samples
 // are added in time order.
 class HeightSeries {
@@ -90,7 +98,7 @@ struct FlightEvaluation {
   GroundModelError ground[kHeightSources];  // the cloud built with each height against it
   std::vector<Eigen::Vector3f> cloud[kHeightSources];  // every return in the map frame, by HeightSource
   cloud_assembly::ElevationGrid elevation;  // of the fused cloud (no cells when it is empty)
-  GroundModelError elevation_error;         // its cells' heights at their centres against the true ground
+  GroundModelError elevation_error;         // its cells' heights against the true ground (cell_average_truth)
   std::vector<HeightSample> heights;      // one per pose
 };
 
