@@ -26,9 +26,10 @@ cd build-sanitize
 # (9 and 6 minutes here under the sanitizers): accuracy.mav_scenarios (seeds of 'scanbus
 # eval mav', in process, as in the unit tests and the recorded samples' tests) and
 # integration.mav_pipeline_over_dds (tests/mav/mav_pipeline.sh, which the
-# integration.mav_sample_* tests run on recorded flights). Those replay at 4x and, slowed
+# integration.mav_sample_* tests, the terrain sample among them, run on recorded flights).
+# Those replay at 4x and, slowed
 # by the sanitizers, lost poses or passed their time limit in CI: left out too. The MAV
 # pipeline over DDS still runs under the sanitizers in faults.mav_kill_restart and
 # faults.sensor_faults (real time and 2x).
 ctest --output-on-failure -j2 --timeout 1200 \
-  -E '^(deploy\.compose_simulator|accuracy\.mav_scenarios|integration\.mav_pipeline_over_dds|integration\.mav_sample_scenario_[0-9]+)$' "$@"
+  -E '^(deploy\.compose_simulator|accuracy\.mav_scenarios|integration\.mav_pipeline_over_dds|integration\.mav_sample_[a-z_0-9]+)$' "$@"
