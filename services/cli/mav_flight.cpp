@@ -1,5 +1,7 @@
 #include "mav_flight.hpp"
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -24,24 +26,29 @@ namespace {
 
 // The services' configs for this flight: the matcher as 'scanbus eval mav' runs it, the
 // pose estimator on the log's origin and laser mount.
-// The replay outruns real time, so a loaded machine must neither lose scans on the way (rt/scan
-// reliable with room for a backlog; it is best effort for a live sensor) nor drop them in the
-// assembly for a pose that comes late in stamp time (wait as long as transforms are cached).
+// The replay outruns real time, so a loaded machine must neither lose samples on the way (every
+// topic of the flight reliable with room for a backlog; the sensors' are best effort for a live
+// sensor, the scan matches keep 10) nor drop scans in the assembly for a pose that comes late in
+// stamp time (wait as long as transforms are cached), and the pose estimator waits for a late
+// sensor as long in wall time as it would live.
 void write_configs(const std::string& dir, const sensor_replay::MavLog& log, const std::string& log_path, double rate) {
-  const std::string lossless_scans = "qos:\n  rt/scan: {reliability: reliable, depth: 1000}\n";
+  std::string lossless = "qos:\n";
+  for (const char* topic : {"rt/scan", "rt/imu", "rt/fix", "rt/pressure", "rt/scan_match", "rt/pose", "rt/tf"})
+    lossless += std::string("  ") + topic + ": {reliability: reliable, depth: 1000}\n";
   const auto matcher = ground_evaluation::mav_matcher_settings();
-  std::ofstream(dir + "/scan_matcher.yaml") << lossless_scans << "scan_matcher:\n  matcher:\n    opening: "
+  std::ofstream(dir + "/scan_matcher.yaml") << lossless << "scan_matcher:\n  matcher:\n    opening: "
                                             << matcher.opening * 180 / M_PI
                                             << "\n    max_correspondence: " << matcher.max_correspondence << "\n";
   const auto& origin = log.meta_of("origin", 3);
   const auto& mount = log.meta_of("laser_mount", 6);
   std::ofstream pose(dir + "/pose_estimation.yaml");
   pose.precision(10);
-  pose << "pose_estimation:\n  origin: [" << origin[0] << ", " << origin[1] << ", " << origin[2] << "]\n"
+  pose << lossless << "pose_estimation:\n  origin: [" << origin[0] << ", " << origin[1] << ", " << origin[2] << "]\n"
        << "  laser_mount:\n    xyz: [" << mount[0] << ", " << mount[1] << ", " << mount[2] << "]\n    rpy: ["
-       << mount[3] * 180 / M_PI << ", " << mount[4] * 180 / M_PI << ", " << mount[5] * 180 / M_PI << "]\n";
-  std::ofstream(dir + "/cloud_assembly.yaml") << lossless_scans << "cloud_assembly:\n  transform_timeout: 30\n";
-  std::ofstream(dir + "/sensor_replay.yaml") << lossless_scans << "sensor_replay:\n  log: " << log_path << "\n  rate: " << rate
+       << mount[3] * 180 / M_PI << ", " << mount[4] * 180 / M_PI << ", " << mount[5] * 180 / M_PI << "]\n"
+       << "  max_wait: " << std::min(0.5 * rate, 10.0) << "\n";  // its 0.5 s of wall time, in stamp time
+  std::ofstream(dir + "/cloud_assembly.yaml") << lossless << "cloud_assembly:\n  transform_timeout: 30\n";
+  std::ofstream(dir + "/sensor_replay.yaml") << lossless << "sensor_replay:\n  log: " << log_path << "\n  rate: " << rate
                                              << "\n  wait_for_readers: 2\n";
 }
 
@@ -68,6 +75,17 @@ MavFlightResult run_mav_flight(const MavFlightOptions& options) {
         std::lock_guard<std::mutex> lock(mutex);
         heights.emplace_back(to_seconds(pose.header().stamp()), pose.pose().pose().position().z());
       });
+  // cloud_assembly can lag behind the poses under load: the cloud is asked for once it has
+  // handled every scan, or a window asked for early misses the flight's last scans.
+  std::atomic<uint64_t> scans_handled{0};
+  Reader<scanbus::msg::HealthPubSubType> health(participant, "rt/scanbus/health", [&](const auto& sample, const auto&) {
+    if (sample.service() != "cloud_assembly") return;
+    uint64_t handled = 0;
+    for (const auto& counter : sample.counters())
+      if (counter.name() == "scans_assembled" || counter.name() == "scans_dropped" || counter.name() == "scans_rejected")
+        handled += counter.value();
+    scans_handled = handled;
+  });
   std::vector<std::unique_ptr<ChildProcess>> services;
   for (const char* name : {"scan_matcher", "pose_estimation", "cloud_assembly"}) {
     services.push_back(std::make_unique<ChildProcess>(
@@ -105,6 +123,11 @@ MavFlightResult run_mav_flight(const MavFlightOptions& options) {
     }
   }
   if (options.progress) std::printf("\n");
+  const auto assembled_deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (scans_handled < log.lasers.size() && std::chrono::steady_clock::now() < assembled_deadline) {
+    check_services();
+    if (StopSignal::wait_for(std::chrono::milliseconds(50))) throw std::runtime_error("interrupted");
+  }
   std::string problem;
   const auto cloud = request_window_cloud(participant, log.lasers.front().stamp, log.lasers.back().stamp, 30, problem);
   if (!cloud) throw std::runtime_error("the flight's cloud: " + problem);

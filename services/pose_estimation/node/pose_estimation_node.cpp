@@ -45,6 +45,7 @@ class PoseEstimation : public Service {
         health_(context.health),
         settings_(pose_estimator_settings_from_config(context.config.section("pose_estimation"))),
         frames_(read_frames(context.config.section("pose_estimation"))),
+        input_ended_after_(context.config.section("pose_estimation").number("input_ended_after", 5.0, 0.05, 3600.0)),
         estimator_(settings_),
         poses_(context.participant, "rt/pose"),
         tf_(context.participant, "rt/tf"),
@@ -66,8 +67,15 @@ class PoseEstimation : public Service {
           context.participant, "rt/scan", [this](const auto& m, const auto&) { receive(m); });
   }
 
+  // When no sample has come for input_ended_after s of wall time the input has ended (a
+  // replay's end, every sensor silent): the results still waiting for newer data go out.
   int run() override {
-    while (!StopSignal::requested()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    while (!StopSignal::requested()) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (std::chrono::steady_clock::now() - last_input_ > std::chrono::duration<double>(input_ended_after_))
+        publish_ready(true);  // counted as poses_after_input_ended
+    }
     scans_.reset();  // no callback may outlive what it uses
     matches_.reset();
     pressures_.reset();
@@ -153,9 +161,11 @@ class PoseEstimation : public Service {
     health_.error(why);
   }
 
-  void publish_ready() {
+  void publish_ready(bool input_ended = false) {
+    if (!input_ended) last_input_ = std::chrono::steady_clock::now();
     report_barometer_outliers();
-    for (const auto& pose : estimator_.take_ready()) {
+    for (const auto& pose : estimator_.take_ready(input_ended)) {
+      if (input_ended) ++health_.counter("poses_after_input_ended");
       geometry_msgs::msg::PoseWithCovarianceStamped message;
       message.header().stamp(to_stamp(pose.stamp));
       message.header().frame_id(frames_.map);
@@ -191,6 +201,8 @@ class PoseEstimation : public Service {
   std::chrono::steady_clock::time_point last_outlier_report_;
   PoseEstimatorSettings settings_;
   Frames frames_;
+  double input_ended_after_;  // s of wall time
+  std::chrono::steady_clock::time_point last_input_ = std::chrono::steady_clock::now();
   std::mutex mutex_;
   PoseEstimator estimator_;
   Writer<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType> poses_;

@@ -91,6 +91,7 @@ double PoseEstimator::barometric_height(double pascal) const {
 
 void PoseEstimator::add_pressure(double stamp, double pascal) {
   fusion_.add_barometer(stamp, barometric_height(pascal));
+  newest_pressure_ = std::max(newest_pressure_, stamp);
   newest_input_ = std::max(newest_input_, stamp);
 }
 
@@ -122,10 +123,14 @@ void PoseEstimator::add_scan(double stamp, double angle_min, double angle_increm
 
 bool PoseEstimator::ready(const Match& match) const {
   // The first height is the barometer's: the first result also waits for a pressure. Once
-  // scans come, a match waits for its own.
+  // scans come, a match waits for its own; once pressures come, for one at or after its
+  // stamp, so the fusion's node sees every pressure before it however late they arrive (the
+  // heights are then the same on a loaded machine as on an idle one).
   const bool scan_in = std::isinf(newest_scan_) || newest_scan_ >= match.stamp;
+  const bool pressure_in = std::isinf(newest_pressure_) || newest_pressure_ >= match.stamp;
   const bool covered = !attitudes_.empty() && attitudes_.newest() >= match.stamp && !positions_.empty() &&
-                       positions_.newest() >= match.stamp && (previous_ || fusion_.has_barometer()) && scan_in;
+                       positions_.newest() >= match.stamp && (previous_ || fusion_.has_barometer()) && scan_in &&
+                       pressure_in;
   return covered || newest_input_ - match.stamp > settings_.max_wait;
 }
 

@@ -2,8 +2,8 @@
 // HeightFusion (barometer, GPS altitude, scan-matcher height changes, the ground the scans
 // see), horizontal position
 // from GPS in a local east-north-up frame, attitude from the IMU. A result waits until the
-// IMU and GPS have samples on both sides of its stamp, or until `max_wait` of newer data
-// shows they will not come.
+// IMU and GPS have samples on both sides of its stamp and the barometer and the scan theirs,
+// or until `max_wait` of newer data shows they will not come.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -91,7 +91,8 @@ class PoseEstimator {
   std::deque<Match> matches_;
   std::map<double, std::vector<Eigen::Vector3d>> scans_;  // points in the laser's frame by stamp, until
                                                          // the match is estimated
-  double newest_scan_ = -INFINITY;  // none yet: matches do not wait for scans
+  double newest_scan_ = -INFINITY;      // none yet: matches do not wait for scans
+  double newest_pressure_ = -INFINITY;  // likewise for pressures
   double newest_input_ = -INFINITY;
   std::optional<std::pair<double, Eigen::Quaterniond>> previous_;  // stamp and attitude of the last result
 };
