@@ -18,6 +18,14 @@ namespace {
 
 using recorder::McapError;
 
+uint64_t mebibytes(double mib) { return static_cast<uint64_t>(mib * (1 << 20)); }
+
+// --max-chunk: what one MCAP record may take in memory (McapReader::kDefaultMaxRecord).
+void add_max_chunk(CLI::App* command, double& mib) {
+  command->add_option("--max-chunk", mib, "MiB one chunk of the file may take in memory, uncompressed")
+      ->check(CLI::Range(1.0, 1048576.0));
+}
+
 struct RecordOptions {
   DdsOptions dds;
   std::vector<std::string> topics;
@@ -75,6 +83,7 @@ int run_record(const RecordOptions& options) {
 struct ReplayOptions {
   DdsOptions dds;
   recorder::ReplaySettings settings;
+  double max_chunk_mib = recorder::McapReader::kDefaultMaxRecord >> 20;
   double start = -1, end = -1;
   bool json = false;
 };
@@ -83,6 +92,7 @@ int run_replay(ReplayOptions options) {
   StopSignal::install();
   if (options.settings.rate > 0 && options.settings.rate < 0.001)
     throw ConfigError("--rate: 0 (as fast as possible) or at least 0.001, got " + std::to_string(options.settings.rate));
+  options.settings.max_chunk = mebibytes(options.max_chunk_mib);
   if (options.start >= 0) options.settings.start = options.start;
   if (options.end >= 0) options.settings.end = options.end;
   auto log = make_logger("replay", options.json ? "warn" : "info");
@@ -95,27 +105,32 @@ int run_replay(ReplayOptions options) {
   });
   if (progress) std::printf("\r%60s\r", "");
   if (options.json) {
-    std::cout << nlohmann::json{{"file", options.settings.file}, {"published", result.published},
-                                {"topics", result.published_by_topic}, {"damage", result.damage}}
+    std::cout << nlohmann::json{{"file", options.settings.file},   {"published", result.published},
+                                {"topics", result.published_by_topic}, {"damage", result.damage},
+                                {"stamps_skipped", result.stamps_skipped}, {"pauses", result.pauses}}
                      .dump()
               << "\n";
   } else {
     std::cout << options.settings.file << ": published " << result.published << " messages\n";
     for (const auto& [topic, count] : result.published_by_topic) std::cout << "  " << topic << ": " << count << "\n";
     if (!result.damage.empty()) std::cout << "stopped at damage: " << result.damage << "\n";
+    if (result.stamps_skipped)
+      std::cout << "skipped " << result.stamps_skipped << " messages whose stamps jumped more than --max-gap\n";
+    if (result.pauses) std::cout << "replayed " << result.pauses << " pauses over --max-gap without waiting\n";
   }
   return 0;
 }
 
 struct InfoOptions {
   std::string file;
+  double max_chunk_mib = recorder::McapReader::kDefaultMaxRecord >> 20;
   bool salvage = false;
   bool json = false;
 };
 
 // From the summary when the file has one, else by reading every message.
 int run_info(const InfoOptions& options) {
-  recorder::McapReader reader(options.file);
+  recorder::McapReader reader(options.file, mebibytes(options.max_chunk_mib));
   std::map<uint16_t, recorder::McapChannel> channels;
   std::map<uint16_t, recorder::McapSchema> schemas;
   std::map<uint16_t, uint64_t> counts;
@@ -226,6 +241,10 @@ void add_record_commands(CLI::App& app, int& exit_code) {
   command->add_option("--start", replay.start, "Seconds after the first message to start at")->check(CLI::NonNegativeNumber);
   command->add_option("--end", replay.end, "Seconds after the first message to stop at")->check(CLI::NonNegativeNumber);
   command->add_flag("--salvage", replay.settings.salvage, "Replay what precedes damage instead of refusing the file");
+  command->add_option("--max-gap", replay.settings.max_gap,
+                      "Seconds a stamp may jump from the previous message's: one alone is skipped, a pause not waited")
+      ->check(CLI::PositiveNumber);
+  add_max_chunk(command, replay.max_chunk_mib);
   command->add_option("--wait-for-readers", replay.settings.wait_for_readers,
                       "Readers every replayed topic must have before the first message");
   command->add_option("--wait-timeout", replay.settings.wait_timeout, "Seconds to wait for those readers at most")
@@ -238,6 +257,7 @@ void add_record_commands(CLI::App& app, int& exit_code) {
   command = app.add_subcommand("info", "Topics, types, counts and time span of an MCAP file");
   command->add_option("file", info.file, "MCAP file")->required()->check(CLI::ExistingFile);
   command->add_flag("--salvage", info.salvage, "Report what precedes damage instead of refusing the file");
+  add_max_chunk(command, info.max_chunk_mib);
   command->add_flag("--json", info.json, "One JSON object");
   on_run(*command, exit_code, [] { return input_errors_exit_2("info", [] { return run_info(info); }); });
 }

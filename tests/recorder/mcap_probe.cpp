@@ -7,6 +7,8 @@
 //                                       COUNT LaserScans on rt/scan as fast as write() takes
 //                                       them, RELIABLE with an unbounded (keep_all) or a
 //                                       5-sample (keep_last) writer queue; prints how many
+//   mcap_probe stamps FILE STAMP...    writes an MCAP file of one FluidPressure on /pressure
+//                                       per STAMP (s), in the order given
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -16,6 +18,8 @@
 #include "cdr.hpp"
 #include "raw_endpoints.hpp"
 #include "scanbus/messages.hpp"
+#include "scanbus/clock.hpp"
+#include "scanbus/recorder/mcap_writer.hpp"
 #include "scanbus/recorder/ros2msg.hpp"
 #include "scanbus/service.hpp"
 
@@ -171,6 +175,24 @@ int burst(uint32_t count, uint32_t rays, const std::string& history) {
   return 0;
 }
 
+int stamps(const std::string& path, const std::vector<double>& seconds) {
+  recorder::McapWriter writer(path, {});
+  const std::string type = recorder::ros_type_of_dds_type("sensor_msgs::msg::dds_::FluidPressure_");
+  const uint16_t schema = writer.add_schema(type, "ros2msg", recorder::Ros2MsgCatalogue::scanbus().schema(type));
+  const uint16_t channel = writer.add_channel(schema, "/pressure", "cdr", {});
+  uint32_t sequence = 0;
+  for (const double stamp : seconds) {
+    sensor_msgs::msg::FluidPressure pressure;
+    pressure.header().stamp(to_stamp(stamp));
+    pressure.fluid_pressure(101325 - sequence);
+    const auto bytes = recorder::to_cdr<sensor_msgs::msg::FluidPressurePubSubType>(pressure);
+    const auto nanoseconds = static_cast<uint64_t>(stamp * 1e9);
+    writer.write(channel, sequence++, nanoseconds, nanoseconds, bytes.data(), bytes.size());
+  }
+  writer.close();
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -180,7 +202,13 @@ int main(int argc, char** argv) {
     if (mode == "receive" && argc == 4) return receive(argv[2], std::stod(argv[3]));
     if (mode == "burst" && argc == 5 && (std::string(argv[4]) == "keep_all" || std::string(argv[4]) == "keep_last"))
       return burst(static_cast<uint32_t>(std::stoul(argv[2])), static_cast<uint32_t>(std::stoul(argv[3])), argv[4]);
-    std::cerr << "usage: mcap_probe publish COUNT EXPECTED | receive EXPECTED SECONDS | burst COUNT RAYS keep_all|keep_last\n";
+    if (mode == "stamps" && argc >= 3) {
+      std::vector<double> seconds;
+      for (int i = 3; i < argc; ++i) seconds.push_back(std::stod(argv[i]));
+      return stamps(argv[2], seconds);
+    }
+    std::cerr << "usage: mcap_probe publish COUNT EXPECTED | receive EXPECTED SECONDS | burst COUNT RAYS keep_all|keep_last"
+                 " | stamps FILE STAMP...\n";
     return 2;
   } catch (const std::exception& error) {
     std::cerr << "mcap_probe: " << error.what() << "\n";

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <set>
 #include <thread>
 
@@ -10,6 +11,7 @@
 #include "scanbus/recorder/mcap.hpp"
 #include "scanbus/recorder/mcap_reader.hpp"
 #include "scanbus/recorder/ros2msg.hpp"
+#include "scanbus/replay_pacer.hpp"
 #include "scanbus/service.hpp"
 
 namespace scanbus::recorder {
@@ -57,7 +59,7 @@ Survey survey(const ReplaySettings& settings, const std::shared_ptr<spdlog::logg
   for (const auto& name : settings.topics) wanted.push_back(dds_topic_of_ros_topic(name));
   Survey result;
   std::map<uint16_t, bool> selected;
-  McapReader reader(settings.file);
+  McapReader reader(settings.file, settings.max_chunk);
   std::vector<uint64_t> times;  // of the selected channels' messages
   result.damage = reader.read_messages(
       [&](const McapMessage& message, const McapChannel& channel) {
@@ -121,50 +123,72 @@ ReplayResult replay(Participant& participant, const ReplaySettings& settings, st
                 settings.wait_for_readers, settings.wait_timeout);
   }
 
+  // A message whose stamp jumps waits for the next to tell a broken stamp from a pause
+  // (ReplayPacer), its bytes copied out of the chunk.
+  struct Held {
+    RawSample data;
+    uint16_t channel;
+  };
+  std::optional<Held> held;
+  const auto publish = [&](const RawSample& sample, uint16_t channel) {
+    RawWriter& writer = *writers.at(channel);
+    RawWriter::Result written;
+    while ((written = writer.write(sample)) == RawWriter::Result::QueueFull) {
+      if (StopSignal::requested()) throw Stopped{};  // readers slow: keep waiting, lose nothing
+    }
+    if (written == RawWriter::Result::Refused) {
+      if (result.skipped++ == 0)
+        log->warn("{}: a message of {} bytes on {} cannot be published (not CDR?); skipping such messages",
+                  settings.file, sample.size(), writer.topic());
+      return;
+    }
+    // A transient-local writer keeps its catalogue depth (late joiners get the last
+    // samples): its next write would replace a sample not yet acknowledged, lost to a
+    // reader still catching up (a room's three scan clouds at --rate 0 under load).
+    if (latched.count(channel))
+      while (!writer.wait_for_acknowledgments(std::chrono::milliseconds(200)))
+        if (StopSignal::requested()) throw Stopped{};
+    ++result.published;
+    ++result.published_by_topic[writer.topic()];
+    if (progress) progress(result.published, plan.messages);
+  };
+  const auto report_skipped = [&](const ReplayPacer& pacer) {
+    if (pacer.skipped() == 1 && result.stamps_skipped == 0)
+      log->warn("{}: a message's stamp jumps more than {} s from its neighbours'; skipping such messages",
+                settings.file, settings.max_gap);
+  };
   RawSample sample;
   try {
     do {
       const auto wall_start = std::chrono::steady_clock::now();
-      std::optional<uint64_t> first_replayed;
-      McapReader reader(settings.file);
+      ReplayPacer pacer(settings.rate, settings.max_gap);
+      McapReader reader(settings.file, settings.max_chunk);
       reader.read_messages(
           [&](const McapMessage& message, const McapChannel& channel) {
-            const auto writer = writers.find(channel.id);
-            if (writer == writers.end()) return;
+            if (!writers.count(channel.id)) return;
             if (!in_window(settings, plan.first_time, message.log_time)) return;
-            if (!first_replayed) first_replayed = message.log_time;
-            if (settings.rate > 0) {
-              // A file need not be in time order: an earlier message goes at once.
-              const double since = message.log_time > *first_replayed ? (message.log_time - *first_replayed) * 1e-9 : 0;
-              const auto due = wall_start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                std::chrono::duration<double>(since / settings.rate));
-              while (std::chrono::steady_clock::now() < due) {
-                if (StopSignal::requested()) throw Stopped{};
-                std::this_thread::sleep_until(std::min(due, std::chrono::steady_clock::now() + std::chrono::milliseconds(50)));
-              }
-            }
+            const auto step = pacer.next(message.log_time * 1e-9);
+            if (step.skip_held) report_skipped(pacer);
+            if (step.publish_held) publish(held->data, held->channel);
+            held.reset();
             sample.assign(message.data, message.data + message.size);
-            RawWriter::Result written;
-            while ((written = writer->second->write(sample)) == RawWriter::Result::QueueFull) {
-              if (StopSignal::requested()) throw Stopped{};  // readers slow: keep waiting, lose nothing
-            }
-            if (written == RawWriter::Result::Refused) {
-              if (result.skipped++ == 0)
-                log->warn("{}: a message of {} bytes on {} cannot be published (not CDR?); skipping such messages",
-                          settings.file, message.size, channel.topic);
+            if (step.hold) {
+              held = Held{sample, channel.id};
               return;
             }
-            // A transient-local writer keeps its catalogue depth (late joiners get the last
-            // samples): its next write would replace a sample not yet acknowledged, lost to a
-            // reader still catching up (a room's three scan clouds at --rate 0 under load).
-            if (latched.count(channel.id))
-              while (!writer->second->wait_for_acknowledgments(std::chrono::milliseconds(200)))
-                if (StopSignal::requested()) throw Stopped{};
-            ++result.published;
-            ++result.published_by_topic[writer->second->topic()];
-            if (progress) progress(result.published, plan.messages);
+            const auto due = wall_start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                              std::chrono::duration<double>(step.due));
+            while (std::chrono::steady_clock::now() < due) {
+              if (StopSignal::requested()) throw Stopped{};
+              std::this_thread::sleep_until(std::min(due, std::chrono::steady_clock::now() + std::chrono::milliseconds(50)));
+            }
+            publish(sample, channel.id);
           },
           true);  // damage was found (and reported) by the survey
+      if (pacer.finish()) report_skipped(pacer);
+      held.reset();
+      result.stamps_skipped += pacer.skipped();
+      result.pauses += pacer.pauses();
     } while (settings.loop && !StopSignal::requested());
   } catch (const Stopped&) {
     log->info("stopped after {} messages", result.published);

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "scanbus/dds.hpp"
+#include "scanbus/recorder/mcap_reader.hpp"
 
 namespace scanbus::recorder {
 
@@ -27,6 +28,8 @@ struct ReplaySettings {
   bool salvage = false;              // replay what precedes damage instead of refusing the file
   size_t wait_for_readers = 0;       // readers every replayed topic must have before the first message
   double wait_timeout = 10;          // s to wait for them at most
+  double max_gap = 60;               // s a stamp may jump from the previous (ReplayPacer)
+  uint64_t max_chunk = McapReader::kDefaultMaxRecord;  // bytes one record may take in memory
 };
 
 struct ReplayResult {
@@ -34,6 +37,8 @@ struct ReplayResult {
   uint64_t skipped = 0;                                // messages DDS would not take (not CDR)
   std::map<std::string, uint64_t> published_by_topic;  // DDS names
   std::string damage;                                  // with salvage: what ended the file early
+  uint64_t stamps_skipped = 0;                         // messages whose stamp jumped alone (broken)
+  uint64_t pauses = 0;                                 // gaps over max_gap replayed without waiting
 };
 
 // Throws McapError for a damaged file (unless salvage) and DdsError; returns early, with

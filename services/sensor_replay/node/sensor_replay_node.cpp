@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "scanbus/messages.hpp"
+#include "scanbus/replay_pacer.hpp"
 #include "mav_messages.hpp"
 
 namespace scanbus::sensor_replay {
@@ -18,6 +19,7 @@ struct Settings {
   bool loop, truth;
   size_t wait_for_readers;
   double wait_timeout;
+  double max_gap;  // s a stamp may jump from its neighbours' (ReplayPacer)
   MavFrames frames;
 };
 
@@ -30,6 +32,7 @@ Settings read_settings(const Config& config) {
   s.truth = config.flag("truth", true);
   s.wait_for_readers = static_cast<size_t>(config.integer("wait_for_readers", 0, 0, 100));
   s.wait_timeout = config.number("wait_timeout", 10.0, 0.0, 3600.0);
+  s.max_gap = config.number("max_gap", 60.0, 0.001, 1e6);
   const Config frames = config.section("frames");
   s.frames.laser = frames.text("laser", s.frames.laser);
   s.frames.base_link = frames.text("base_link", s.frames.base_link);
@@ -70,30 +73,48 @@ class SensorReplay : public Service {
       ++health_.counter("replays");
     } while (settings_.loop);
     log_->info("replay of {} done: {} records", settings_.log, records.size());
-    truths_.wait_for_acknowledgments(std::chrono::seconds(2));
+    // Exiting deletes the writers, and with them what reliable readers have not acknowledged
+    // yet: the flight's last scans on a loaded machine. (Best-effort readers acknowledge
+    // nothing and cost no wait.)
+    const auto acknowledged = [](auto& writer) { return writer.wait_for_acknowledgments(std::chrono::seconds(5)); };
+    if (!(acknowledged(scans_) & acknowledged(imus_) & acknowledged(fixes_) & acknowledged(pressures_) &
+          acknowledged(truths_)))
+      log_->warn("readers did not acknowledge every sample within 5 s of the replay's end");
     return 0;
   }
 
  private:
-  // False when a stop was requested.
+  // False when a stop was requested. A record whose stamp jumps more than max_gap from its
+  // neighbours' is skipped, a pause in the log not waited for (ReplayPacer).
   bool replay(const std::vector<RecordRef>& records) {
-    if (records.empty()) return true;
     const auto started = std::chrono::steady_clock::now();
-    const double first = records.front().stamp;
+    ReplayPacer pacer(settings_.rate, settings_.max_gap);
+    const RecordRef* held = nullptr;
     for (const RecordRef& record : records) {
-      if (settings_.rate > 0) {
-        const auto due = started + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                       std::chrono::duration<double>((record.stamp - first) / settings_.rate));
-        for (auto now = std::chrono::steady_clock::now(); now < due; now = std::chrono::steady_clock::now()) {
-          const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(due - now) + std::chrono::milliseconds(1);
-          if (StopSignal::wait_for(wait)) return false;
-        }
-      } else if (StopSignal::requested()) {
-        return false;
+      const auto step = pacer.next(record.stamp);
+      if (step.skip_held) skipped(*held);
+      if (step.publish_held) publish(*held);
+      held = step.hold ? &record : nullptr;
+      if (step.hold) continue;
+      const auto due = started + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                     std::chrono::duration<double>(step.due));
+      for (auto now = std::chrono::steady_clock::now(); now < due; now = std::chrono::steady_clock::now()) {
+        const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(due - now) + std::chrono::milliseconds(1);
+        if (StopSignal::wait_for(wait)) return false;
       }
+      if (StopSignal::requested()) return false;
       publish(record);
     }
+    if (pacer.finish()) skipped(*held);
     return true;
+  }
+
+  void skipped(const RecordRef& record) {
+    ++health_.counter("stamps_skipped");
+    health_.error("a record stamped " + std::to_string(record.stamp) + " s jumps more than max_gap (" +
+                  std::to_string(settings_.max_gap) + " s) from its neighbours: skipped");
+    log_->warn("{}: a record stamped {} s jumps more than {} s from its neighbours: skipped", settings_.log,
+               record.stamp, settings_.max_gap);
   }
 
   void publish(const RecordRef& record) {

@@ -14,7 +14,6 @@ namespace {
 
 constexpr uint64_t kRecordHeader = 1 + 8;            // opcode, length
 constexpr uint64_t kFooterRecord = kRecordHeader + 20;
-constexpr uint64_t kMaxChunk = uint64_t{1} << 34;  // 16 GiB: a larger uncompressed size is damage
 
 // "chunk (0x06)": the record's name and opcode, for errors.
 std::string hex(uint8_t opcode) {
@@ -80,7 +79,7 @@ McapChunkInfo parse_chunk_index(Cursor& in) {
 
 }  // namespace
 
-McapReader::McapReader(const std::string& path) : path_(path) {
+McapReader::McapReader(const std::string& path, uint64_t max_record) : path_(path), max_record_(max_record) {
   file_ = std::fopen(path.c_str(), "rb");
   if (!file_) throw McapError(path + ": cannot open (" + std::strerror(errno) + ")");
   try {
@@ -109,12 +108,19 @@ void McapReader::open_checked() {
   if (std::memcmp(magic, format::kMagic, sizeof(magic)) != 0 || opcode != format::kHeader ||
       length > file_size_ - sizeof(magic) - kRecordHeader)
     throw McapError(path + ": not an MCAP file (no MCAP magic and header record at offset 0)");
+  check_budget(length, path + ": the header record");
   std::vector<uint8_t> content(length);
   read_at(sizeof(magic) + kRecordHeader, content.data(), content.size(), "header");
   Cursor in(content.data(), content.size(), sizeof(magic) + kRecordHeader, path + ": header");
   profile_ = in.get_string();
   library_ = in.get_string();
   data_start_ = sizeof(magic) + kRecordHeader + length;
+}
+
+void McapReader::check_budget(uint64_t size, const std::string& what) const {
+  if (size > max_record_)
+    throw McapError(what + " takes " + std::to_string(size) + " bytes, more than the reader's budget of " +
+                    std::to_string(max_record_) + " (--max-chunk: raise it to read this file)");
 }
 
 McapReader::~McapReader() {
@@ -146,6 +152,7 @@ std::optional<McapSummary> McapReader::read_summary() {
     throw McapError(path_ + ": footer at offset " + std::to_string(footer_at) + " points the summary at offset " +
                     std::to_string(summary_start) + ", outside the file's records");
 
+  check_budget(footer_at - summary_start, path_ + ": the summary at offset " + std::to_string(summary_start));
   std::vector<uint8_t> section(footer_at - summary_start + kRecordHeader + 16);
   read_at(summary_start, section.data(), section.size(), "summary");
   if (summary_crc != 0 && crc32_of(section.data(), section.size()) != summary_crc)
@@ -204,6 +211,7 @@ void McapReader::stream(const MessageHandler& on_message) {
       throw McapError(path_ + ": record " + hex(opcode) + " at offset " + std::to_string(offset) + " needs " +
                       std::to_string(length) + " bytes, the file has " +
                       std::to_string(file_size_ - offset - kRecordHeader) + " left (truncated or corrupt)");
+    check_budget(length, path_ + ": record " + hex(opcode) + " at offset " + std::to_string(offset));
     content.resize(length);
     read_at(offset + kRecordHeader, content.data(), content.size(), "record");
     if (opcode == format::kDataEnd) {
@@ -268,8 +276,7 @@ void McapReader::handle_chunk(const uint8_t* content, size_t size, uint64_t offs
   const auto uncompressed_crc = in.get<uint32_t>();
   const std::string compression = in.get_string();
   Cursor records = in.get_span<uint64_t>();
-  if (uncompressed_size > kMaxChunk)
-    throw McapError(what + " claims " + std::to_string(uncompressed_size) + " uncompressed bytes (corrupt)");
+  check_budget(uncompressed_size, what + " uncompressed");
   const Bytes plain = decompress(compression, records.here(), records.left(), uncompressed_size, what);
   if (uncompressed_crc != 0 && crc32_of(plain.data(), plain.size()) != uncompressed_crc)
     throw McapError(what + " fails its CRC (corrupt)");

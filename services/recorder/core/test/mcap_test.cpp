@@ -304,3 +304,56 @@ TEST(Mcap, UnknownCompressionNameIsRefused) {
 
 }  // namespace
 }  // namespace scanbus::recorder
+
+namespace scanbus::recorder {
+
+// zstd and lz4 expand legitimately: a chunk of 1 MiB of zeros is a few hundred bytes on
+// disk. Over the reader's memory budget it is refused before it is inflated, naming the
+// chunk's offset and both sizes; a larger budget reads it.
+TEST(Mcap, AChunkOverTheMemoryBudgetIsRefusedNamingItsSize) {
+  const auto path = temporary("budget.mcap");
+  std::vector<Sample> zeros;
+  for (uint32_t i = 0; i < 4; ++i) zeros.push_back({1, i, 1'000'000'000ull + i, 1'000'000'000ull + i, std::vector<uint8_t>(256 << 10)});
+  write_file(path, zeros, {Compression::Zstd, 4 << 20});
+  const auto chunks = McapReader(path.string()).read_summary()->chunks;
+  ASSERT_EQ(chunks.size(), 1u);
+  ASSERT_LT(chunks[0].compressed_size, 64u << 10);
+  try {
+    McapReader(path.string(), 512 << 10).read_messages([](const McapMessage&, const McapChannel&) {});
+    FAIL() << "a 1 MiB chunk read with a 512 KiB budget";
+  } catch (const McapError& error) {
+    const std::string what = error.what();
+    EXPECT_NE(what.find("chunk at offset " + std::to_string(chunks[0].offset) + " uncompressed takes " +
+                        std::to_string(chunks[0].uncompressed_size) + " bytes, more than the reader's budget of 524288"),
+              std::string::npos)
+        << what;
+  }
+  size_t messages = 0;
+  McapReader(path.string(), 2 << 20).read_messages([&](const McapMessage&, const McapChannel&) { ++messages; });
+  EXPECT_EQ(messages, 4u);
+  fs::remove(path);
+}
+
+// A chunk claiming 16 GiB is refused by the default budget (1 GiB), nothing allocated.
+TEST(Mcap, AChunkClaimingGigabytesIsRefusedByTheDefaultBudget) {
+  const auto path = temporary("claims.mcap");
+  write_file(path, samples(50, 100), {Compression::Lz4, 1 << 20});
+  const auto chunk = McapReader(path.string()).read_summary()->chunks.at(0);
+  {
+    std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
+    file.seekp(static_cast<std::streamoff>(chunk.offset + 1 + 8 + 16));  // opcode, length, start and end time
+    const uint64_t claimed = uint64_t{16} << 30;
+    file.write(reinterpret_cast<const char*>(&claimed), sizeof(claimed));
+  }
+  try {
+    read_all(path, false);
+    FAIL() << "a chunk claiming 16 GiB was read";
+  } catch (const McapError& error) {
+    EXPECT_NE(std::string(error.what()).find("uncompressed takes 17179869184 bytes, more than the reader's budget of 1073741824"),
+              std::string::npos)
+        << error.what();
+  }
+  fs::remove(path);
+}
+
+}  // namespace scanbus::recorder

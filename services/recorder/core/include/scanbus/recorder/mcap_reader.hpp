@@ -34,8 +34,14 @@ class McapReader {
  public:
   using MessageHandler = std::function<void(const McapMessage&, const McapChannel&)>;
 
+  // The most one record (a chunk compressed or uncompressed, the summary) may take in
+  // memory: a chunk may claim gigabytes, and zstd or lz4 can legitimately expand that far.
+  // Our recorder's chunks are a few MiB; a file over the budget is refused naming the
+  // offset and both sizes, and a user who trusts it raises the budget (`--max-chunk`).
+  static constexpr uint64_t kDefaultMaxRecord = uint64_t{1} << 30;  // 1 GiB
+
   // Opens the file and checks the leading magic and header; throws McapError.
-  explicit McapReader(const std::string& path);
+  explicit McapReader(const std::string& path, uint64_t max_record = kDefaultMaxRecord);
   ~McapReader();
   McapReader(const McapReader&) = delete;
   McapReader& operator=(const McapReader&) = delete;
@@ -66,8 +72,10 @@ class McapReader {
   void handle_record(uint8_t opcode, const uint8_t* content, size_t size, uint64_t offset,
                      const MessageHandler& on_message);
   void handle_chunk(const uint8_t* content, size_t size, uint64_t offset, const MessageHandler& on_message);
+  void check_budget(uint64_t size, const std::string& what) const;
 
   std::string path_;
+  uint64_t max_record_;
   std::FILE* file_ = nullptr;
   uint64_t file_size_ = 0;
   uint64_t data_start_ = 0;  // after the header record
