@@ -28,6 +28,19 @@ expect_error 2 "key 'qos.rt/no_such_topic' names an unknown topic" -- "$probe" s
 
 expect_error 2 "unknown service 'nope'" -- "$scanbus" run nope
 
+# Abusive YAML, refused at once (expect_exit's 60 s timeout fails a walk that takes longer):
+# eight levels of ten aliases (10^8 values from 500 bytes), nesting 100 deep.
+python3 - "$work/bomb.yaml" <<'PY'
+import sys
+lines = ["l0: &l0 [x, x, x, x, x, x, x, x, x, x]"]
+lines += [f"l{i}: &l{i} [" + ", ".join([f"*l{i - 1}"] * 10) + "]" for i in range(1, 9)]
+open(sys.argv[1], "w").write("\n".join(lines) + "\n")
+PY
+echo "1 2 3" > "$work/x.xyz"
+expect_error 2 "bomb.yaml: more than 100000 values once its aliases are expanded" -- "$scanbus" room measure "$work/x.xyz" --config "$work/bomb.yaml"
+printf 'a: %s%s\n' "$(printf '[%.0s' $(seq 100))" "$(printf ']%.0s' $(seq 100))" > "$work/deep.yaml"
+expect_error 2 "deep.yaml: line 1: nested deeper than 64 levels" -- "$scanbus" run room_measurement --config "$work/deep.yaml"
+
 # Recordings: an unknown topic, a file that is not MCAP, a cut file; each one clear line.
 printf 'recorder:\n  out: %s\n  topics: [rt/nope]\n' "$work/x.mcap" > "$work/recorder.yaml"
 expect_error 2 "key 'recorder.topics' topic 'rt/nope' is not in the topic catalogue" -- "$scanbus" run recorder --config "$work/recorder.yaml"

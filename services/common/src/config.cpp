@@ -1,7 +1,6 @@
 #include "scanbus/config.hpp"
 
 #include <fstream>
-#include <sstream>
 
 namespace scanbus {
 
@@ -18,17 +17,31 @@ std::string describe(const YAML::Node& node) {
   return "'" + node.Scalar() + "'";
 }
 
+// Bounds on what a config may hold. Aliases make a small file a large tree (yaml-cpp
+// shares the aliased node, so each walk over it repeats it: eight levels of ten aliases
+// made a 546-byte file that every walk took minutes over); the largest shipped config or
+// room file has a few hundred nodes.
+constexpr size_t kMaxFileBytes = 1 << 20;
+constexpr size_t kMaxNodes = 100000;  // after following aliases
+constexpr int kMaxDepth = 64;
+
 // Every key a plain name: YAML allows lists and maps as keys ("[a, b]: 1"), which no getter
-// can name (found by tests/fuzz, config).
-void check_keys(const YAML::Node& node, const std::string& origin) {
+// can name (found by tests/fuzz, config). Counts the nodes with aliases followed.
+void check_keys(const YAML::Node& node, const std::string& origin, int depth, size_t& nodes) {
+  if (++nodes > kMaxNodes)
+    throw ConfigError(origin + ": more than " + std::to_string(kMaxNodes) +
+                      " values once its aliases are expanded; refused (aliases of aliases?)");
+  if (depth > kMaxDepth)
+    throw ConfigError(origin + ": line " + std::to_string(node.Mark().line + 1) + ": nested deeper than " +
+                      std::to_string(kMaxDepth) + " levels; refused");
   if (node.IsSequence())
-    for (const auto& item : node) check_keys(item, origin);
+    for (const auto& item : node) check_keys(item, origin, depth + 1, nodes);
   if (!node.IsMap()) return;
   for (const auto& entry : node) {
     if (!entry.first.IsScalar())
       throw ConfigError(origin + ": line " + std::to_string(entry.first.Mark().line + 1) +
                         ": a key must be a plain name, got " + describe(entry.first));
-    check_keys(entry.second, origin);
+    check_keys(entry.second, origin, depth + 1, nodes);
   }
 }
 
@@ -40,14 +53,17 @@ Config::Config(std::shared_ptr<State> state, YAML::Node node, std::string prefix
 Config Config::load(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw ConfigError(path + ": cannot open config file");
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse(text.str(), path);
+  std::string text(kMaxFileBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<size_t>(in.gcount()));  // one byte past the bound is enough to refuse it
+  return parse(text, path);
 }
 
 Config Config::parse(const std::string& yaml_text, const std::string& origin) {
   auto state = std::make_shared<State>();
   state->origin = origin;
+  if (yaml_text.size() > kMaxFileBytes)
+    throw ConfigError(origin + ": larger than " + std::to_string(kMaxFileBytes >> 20) + " MiB; refused (not a config?)");
   try {
     state->root = YAML::Load(yaml_text);
   } catch (const YAML::Exception& e) {
@@ -55,7 +71,8 @@ Config Config::parse(const std::string& yaml_text, const std::string& origin) {
   }
   if (state->root.IsNull()) state->root = YAML::Node(YAML::NodeType::Map);
   if (!state->root.IsMap()) throw ConfigError(origin + ": top level must be a map of keys");
-  check_keys(state->root, origin);
+  size_t nodes = 0;
+  check_keys(state->root, origin, 0, nodes);
   return Config(state, state->root, "");
 }
 

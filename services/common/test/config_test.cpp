@@ -134,3 +134,40 @@ TEST(Config, BadRowsAreNamed) {
   EXPECT_EQ(error_of([&] { config.numbers("origin", 3); }), "room.yaml: key 'origin' must hold numbers, got 'x'");
   EXPECT_EQ(error_of([&] { config.numbers("nothing", 3); }), "room.yaml: key 'nothing' is required");
 }
+
+// Eight levels of ten aliases: 546 bytes that expand to 10^8 values. Before the bound every
+// walk over it ran for minutes (ctest's timeout fails this test if that comes back).
+TEST(Config, AliasesExpandingPastTheBoundAreRefused) {
+  std::string yaml = "l0: &l0 [x, x, x, x, x, x, x, x, x, x]\n";
+  for (int level = 1; level <= 8; ++level) {
+    const std::string below = "*l" + std::to_string(level - 1);
+    yaml += "l" + std::to_string(level) + ": &l" + std::to_string(level) + " [";
+    for (int i = 0; i < 10; ++i) yaml += (i ? ", " : "") + below;
+    yaml += "]\n";
+  }
+  const std::string message = error_of([&] { Config::parse(yaml, "bomb.yaml"); });
+  EXPECT_NE(message.find("bomb.yaml: more than 100000 values once its aliases are expanded"), std::string::npos)
+      << message;
+}
+
+TEST(Config, AliasesWithinTheBoundAreFine) {
+  const Config config = Config::parse("base: &b [1, 2, 3]\ncopy: *b\n", "alias.yaml");
+  EXPECT_EQ(config.numbers("copy", 3)[2], 3.0);
+}
+
+TEST(Config, NestingPastTheBoundIsRefused) {
+  const std::string yaml = "a: " + std::string(100, '[') + std::string(100, ']') + "\n";
+  const std::string message = error_of([&] { Config::parse(yaml, "deep.yaml"); });
+  EXPECT_NE(message.find("deep.yaml: line 1: nested deeper than 64 levels"), std::string::npos) << message;
+}
+
+TEST(Config, AFileLargerThanAConfigIsRefused) {
+  const std::string path = ::testing::TempDir() + "/scanbus_config_large.yaml";
+  {
+    std::ofstream out(path);
+    out << "a: 1\n";
+    for (int i = 0; i < 70000; ++i) out << "# a comment line of some length\n";
+  }
+  EXPECT_EQ(error_of([&] { Config::load(path); }), path + ": larger than 1 MiB; refused (not a config?)");
+  std::remove(path.c_str());
+}
