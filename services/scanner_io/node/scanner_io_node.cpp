@@ -8,6 +8,7 @@
 #include "scanbus/clock.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/point_cloud.hpp"
+#include "scanbus/scanner_io/device_watchdog.hpp"
 #include "scanbus/scanner_io/scan_assembler.hpp"
 #include "serial_port.hpp"
 
@@ -26,6 +27,7 @@ struct Settings {
   int resolution;
   int scans;
   double reconnect_min, reconnect_max;
+  double stall_timeout;
   RangeGate gate;
   std::string frame_id;
 };
@@ -42,6 +44,7 @@ Settings read_settings(const Config& config) {
   s.scans = static_cast<int>(config.integer("scans", 1, 0, 1000000));
   s.reconnect_min = config.number("reconnect_min", 0.2, 0.01, 60);
   s.reconnect_max = config.number("reconnect_max", 5.0, s.reconnect_min, 600);
+  s.stall_timeout = config.number("stall_timeout", 5.0, 0.1, 3600);
   s.gate.min = config.number("min_range", 0.05, 0, 1000);
   s.gate.max = config.number("max_range", 40.0, s.gate.min, 1000);
   s.frame_id = config.text("frame_id", "scanner");
@@ -56,6 +59,7 @@ class ScannerIo : public Service {
         settings_(read_settings(context.config.section("scanner_io"))),
         port_(settings_.port, settings_.baud),
         assembler_(settings_.gate),
+        watchdog_(settings_.stall_timeout, settings_.reconnect_min, settings_.reconnect_max),
         spherical_(context.participant, "rt/scanner/spherical"),
         revolution_cloud_(context.participant, "rt/scanner/cloud"),
         scan_cloud_(context.participant, "rt/scanner/scan_cloud"),
@@ -78,6 +82,13 @@ class ScannerIo : public Service {
       retry_delay = settings_.reconnect_min;
       for (const auto& line : lines) handle(parse_line(line, settings_.dialect));
       send_pending_commands();
+      const double now = seconds_now();
+      if (!lines.empty()) watchdog_.line(now);
+      watchdog_.expect(state_ == Status::SCANNING || start_sent_ || status_asked_, now);
+      if (watchdog_.stalled(now)) {
+        stalled(now);
+        continue;
+      }
       if (std::chrono::steady_clock::now() >= next_status) {
         publish_status("");
         next_status = std::chrono::steady_clock::now() + std::chrono::seconds(1);
@@ -94,7 +105,7 @@ class ScannerIo : public Service {
       log_->info("connected to {}", settings_.port);
       state_ = Status::IDLE;
       // A device that booted earlier said hello to no one: ask where it stands.
-      if (settings_.dialect == Dialect::Scanbus) port_.write_line("STATUS");
+      if (settings_.dialect == Dialect::Scanbus) status_asked_ = port_.write_line("STATUS");
       publish_status("connected" + gap_text());
       return true;
     }
@@ -108,6 +119,24 @@ class ScannerIo : public Service {
     StopSignal::wait_for(std::chrono::milliseconds(static_cast<int>(retry_delay * 1000)));
     retry_delay = std::min(retry_delay * 2, settings_.reconnect_max);
     return false;
+  }
+
+  static double seconds_now() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  }
+
+  // No line while lines were due (DeviceWatchdog): the session is closed and, after the
+  // back-off, opened again; the device is then asked where it stands and a scan started
+  // as at any connection.
+  void stalled(double now) {
+    ++health_.counter("stalls");
+    char why[128];
+    std::snprintf(why, sizeof(why), "device stalled: no line for %.1f s while %s; resetting the session",
+                  watchdog_.silent_for(now), state_ == Status::SCANNING ? "scanning" : "waiting for an answer");
+    port_.close();
+    disconnected(why);
+    status_asked_ = false;
+    StopSignal::wait_for(std::chrono::milliseconds(static_cast<int>(watchdog_.reset() * 1000)));
   }
 
   void disconnected(const std::string& why) {
@@ -137,9 +166,11 @@ class ScannerIo : public Service {
         log_->info("device says hello: protocol {}, firmware {}", line.protocol_version, line.text);
         if (line.protocol_version != 1) health_.error("device speaks protocol " + std::to_string(line.protocol_version) + ", expected 1");
         start_sent_ = false;  // a boot: any START sent before is gone
+        status_asked_ = false;
         maybe_start();
         break;
       case LineKind::Status:
+        status_asked_ = false;
         device_status_ = line.status;
         state_ = line.status.state == 2 ? Status::SCANNING : Status::IDLE;
         if (state_ == Status::IDLE) maybe_start();
@@ -271,6 +302,7 @@ class ScannerIo : public Service {
   Settings settings_;
   SerialPort port_;
   ScanAssembler assembler_;
+  DeviceWatchdog watchdog_;
   Writer<scanbus::msg::SphericalScanPubSubType> spherical_;
   Writer<sensor_msgs::msg::PointCloud2PubSubType> revolution_cloud_;
   Writer<sensor_msgs::msg::PointCloud2PubSubType> scan_cloud_;
@@ -283,6 +315,7 @@ class ScannerIo : public Service {
   std::string firmware_;
   std::string last_error_;
   bool start_sent_ = false;
+  bool status_asked_ = false;  // STATUS sent on connecting, not answered yet
   std::optional<std::chrono::steady_clock::time_point> lost_at_;
 };
 
