@@ -72,5 +72,17 @@ fi
 alive "$room" || fail "room_measurement died when scanner_io did"
 "$scanbus" echo rt/scanner/cloud -n 1 --timeout 5 > /dev/null 2>&1 ||
   fail "a late subscriber got no PointCloud2 from the restarted scanner_io"
+# Every room published across the kills is the room (the simulator's built-in 5.47 x 3.48 m
+# room, as tests/integration/cli_demo.sh checks), not only a sample.
+python3 - "$work/rooms.jsonl" <<'PY' || fail "a published RoomMeasurement is not the room"
+import json, sys
+rooms = [json.loads(line) for line in open(sys.argv[1]) if line.strip()]
+for i, room in enumerate(rooms):
+    lengths = sorted(w["length"] for w in room["walls"])
+    assert room["status"] == 0, (i, room["status"], room["message"])
+    assert len(lengths) == 4 and all(abs(a - b) < 0.02 for a, b in zip(lengths, [3.48, 3.48, 5.47, 5.47])), (i, lengths)
+    assert abs(room["floor_area"] - 5.47 * 3.48) < 0.01 * 5.47 * 3.48, (i, room["floor_area"])
+print(f"ok   all {len(rooms)} RoomMeasurements: status ok, walls and area of the 5.47 x 3.48 m room")
+PY
 [ "$failures" -eq 0 ] || { echo "FAIL: $failures checks"; exit 1; }
 echo "kill -9 and restart: the room pipeline resumed each time"

@@ -27,9 +27,9 @@ if command -v ss > /dev/null; then
   echo "sender UDP sockets: $(echo $sockets)"
   [ -n "$sockets" ] || { echo "no UDP sockets found for the sender"; exit 1; }
   if echo "$sockets" | grep -v '^127\.0\.0\.1:'; then echo "sender has a socket off loopback"; exit 1; fi
-else
-  echo "ss (iproute2) not installed: socket check skipped"
 fi
 
 expect_clean_stop sender "$sender" TERM "$work/sender.err"
 grep -q "intact: PointCloud2" "$work/receiver.out"
+# 77: ctest's skip: the samples arrived, but nothing showed they stayed on loopback.
+command -v ss > /dev/null || { echo "SKIP: the socket check: ss (iproute2, scripts/install-deps.sh) is not installed"; exit 77; }
