@@ -30,6 +30,7 @@ void on_run(CLI::App& command, int& exit_code, std::function<int()> body);
 
 // Each adds its subcommand; the callback stores the exit code in `exit_code`.
 void add_topics_command(CLI::App& app, int& exit_code);
+void add_security_command(CLI::App& app, int& exit_code);
 void add_echo_command(CLI::App& app, int& exit_code);
 void add_health_command(CLI::App& app, int& exit_code);
 void add_run_command(CLI::App& app, int& exit_code);

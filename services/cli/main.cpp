@@ -6,6 +6,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   int exit_code = 0;
   scanbus::cli::add_topics_command(app, exit_code);
+  scanbus::cli::add_security_command(app, exit_code);
   scanbus::cli::add_echo_command(app, exit_code);
   scanbus::cli::add_health_command(app, exit_code);
   scanbus::cli::add_run_command(app, exit_code);

@@ -84,7 +84,9 @@ dds::Topic* Participant::topic(const std::string& name, dds::TopicDataType* type
   if (registered.empty() && support.register_type(participant_) != ReturnCode_t::RETCODE_OK)
     throw DdsError("cannot register type " + support.get_type_name());
   dds::Topic* topic = participant_->create_topic(name, support.get_type_name(), dds::TOPIC_QOS_DEFAULT);
-  if (!topic) throw DdsError("cannot create topic '" + name + "' of type " + support.get_type_name());
+  if (!topic)
+    throw DdsError("cannot create topic '" + name + "' of type " + support.get_type_name() +
+                   " (under DDS Security: is this identity granted it?)");
   topics_[name] = topic;
   return topic;
 }
@@ -160,7 +162,9 @@ dds::DataWriter* create_writer(Participant& participant, const std::string& topi
 dds::DataWriter* create_writer(Participant& participant, const std::string& topic, dds::TopicDataType* type,
                                const dds::DataWriterQos& qos, const std::string& qos_text) {
   dds::DataWriter* writer = participant.publisher()->create_datawriter(participant.topic(topic, type), qos);
-  if (!writer) throw DdsError("cannot create writer on '" + topic + "' (" + qos_text + ")");
+  if (!writer)
+    throw DdsError("cannot create writer on '" + topic + "' (" + qos_text +
+                   "; under DDS Security: is this identity granted it? scanbus security permissions)");
   return writer;
 }
 
@@ -168,7 +172,9 @@ dds::DataReader* create_reader(Participant& participant, const std::string& topi
                                const QosSettings& qos, dds::DataReaderListener* listener) {
   dds::DataReader* reader = participant.subscriber()->create_datareader(
       participant.topic(topic, type), reader_qos(qos), listener, dds::StatusMask::data_available());
-  if (!reader) throw DdsError("cannot create reader on '" + topic + "' (" + describe(qos) + ")");
+  if (!reader)
+    throw DdsError("cannot create reader on '" + topic + "' (" + describe(qos) +
+                   "; under DDS Security: is this identity granted it? scanbus security permissions)");
   return reader;
 }
 

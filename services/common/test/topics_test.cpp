@@ -43,14 +43,16 @@ TEST(Topics, BadQosValueIsAConfigError) {
 }
 
 // docs/topics.md is the user's view of the catalogue: it must list every topic with its
-// type and QoS as the code has them.
+// type, QoS, publishers and subscribers as the code has them (the last two grant DDS
+// Security permissions: scanbus security permissions).
 TEST(Topics, DocumentationListsEveryTopic) {
   std::ifstream in(std::string(SCANBUS_SOURCE_DIR) + "/docs/topics.md");
   ASSERT_TRUE(in) << "docs/topics.md missing";
   std::stringstream text;
   text << in.rdbuf();
   for (const auto& topic : topic_catalogue()) {
-    const std::string row = "| `" + topic.name + "` | `" + topic.type + "` | " + describe(topic.qos) + " |";
+    const std::string row = "| `" + topic.name + "` | `" + topic.type + "` | " + describe(topic.qos) + " | " +
+                            topic.publishers + " | " + topic.subscribers + " |";
     EXPECT_NE(text.str().find(row), std::string::npos) << "docs/topics.md lacks the row starting: " << row;
   }
 }
