@@ -50,10 +50,9 @@ class PoseEstimation : public Service {
         poses_(context.participant, "rt/pose"),
         tf_(context.participant, "rt/tf"),
         tf_static_(context.participant, "rt/tf_static") {
-    tf2_msgs::msg::TFMessage mount;
-    mount.transforms().push_back(
+    mount_.transforms().push_back(
         transform_message(to_seconds(now_stamp()), frames_.body, frames_.laser, settings_.laser_in_body));
-    tf_static_.write(mount);  // transient local: late subscribers get it too
+    tf_static_.write(mount_);  // transient local: late subscribers get it too
     imu_ = std::make_unique<Reader<sensor_msgs::msg::ImuPubSubType>>(
         context.participant, "rt/imu", [this](const auto& m, const auto&) { receive(m); });
     fixes_ = std::make_unique<Reader<sensor_msgs::msg::NavSatFixPubSubType>>(
@@ -67,12 +66,14 @@ class PoseEstimation : public Service {
           context.participant, "rt/scan", [this](const auto& m, const auto&) { receive(m); });
   }
 
-  // When no sample has come for input_ended_after s of wall time the input has ended (a
-  // replay's end, every sensor silent): the results still waiting for newer data go out.
+  // Every 100 ms: the mount to readers that joined since, and, when no sample has come for
+  // input_ended_after s of wall time (a replay's end, every sensor silent), the results
+  // still waiting for newer data.
   int run() override {
     while (!StopSignal::requested()) {
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
       std::lock_guard<std::mutex> lock(mutex_);
+      republish_mount_to_new_readers();
       if (std::chrono::steady_clock::now() - last_input_ > std::chrono::duration<double>(input_ended_after_))
         publish_ready(true);  // counted as poses_after_input_ended
     }
@@ -143,6 +144,18 @@ class PoseEstimation : public Service {
     publish_ready();
   }
 
+  // The mount again whenever a reader joined: Fast DDS 2.9 now and then never delivers a
+  // transient-local sample to a late-joining reader (eProsima/Fast-DDS#3822, open; a
+  // restarted cloud_assembly then dropped every scan, "frames 'map' and 'laser' are not
+  // connected"). Written anew, it goes the ordinary reliable way; the copies are identical.
+  void republish_mount_to_new_readers() {
+    const size_t matched = tf_static_.readers_matched_ever();
+    if (matched == mount_readers_) return;
+    mount_readers_ = matched;
+    tf_static_.write(mount_);
+    ++health_.counter("mount_republished");
+  }
+
   // A barometer jump is left out of the fusion (FusionSettings::baro_gate_time): counted,
   // and said in Health at most once a second while it lasts.
   void report_barometer_outliers() {
@@ -208,6 +221,8 @@ class PoseEstimation : public Service {
   Writer<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType> poses_;
   Writer<tf2_msgs::msg::TFMessagePubSubType> tf_;
   Writer<tf2_msgs::msg::TFMessagePubSubType> tf_static_;
+  tf2_msgs::msg::TFMessage mount_;  // laser in base_link, for rt/tf_static
+  size_t mount_readers_ = 0;
   std::unique_ptr<Reader<sensor_msgs::msg::ImuPubSubType>> imu_;
   std::unique_ptr<Reader<sensor_msgs::msg::NavSatFixPubSubType>> fixes_;
   std::unique_ptr<Reader<sensor_msgs::msg::FluidPressurePubSubType>> pressures_;

@@ -132,6 +132,12 @@ class Writer {
     writer_->get_publication_matched_status(status);
     return static_cast<size_t>(status.current_count);
   }
+  // Readers matched so far, those gone since included: it grows when a reader joins.
+  size_t readers_matched_ever() const {
+    eprosima::fastdds::dds::PublicationMatchedStatus status;
+    writer_->get_publication_matched_status(status);
+    return static_cast<size_t>(status.total_count);
+  }
   bool wait_for_readers(size_t count, std::chrono::milliseconds timeout) const {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     while (matched_readers() < count) {
