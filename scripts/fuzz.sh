@@ -7,10 +7,12 @@
 # tests/fuzz/regressions/TARGET/ (tests/fuzz/README.md). A finding's report and its input
 # (base64, up to 64 KiB) are printed, so one found in CI reproduces from the log. Progress
 # on a terminal only.
-#   scripts/fuzz.sh [SECONDS] [TARGET ...]
+#   scripts/fuzz.sh [SECONDS|--nightly] [TARGET ...]
+# --nightly: 600 s per target (80 minutes for all eight), for a nightly job; CI runs 15.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
+[ "$seconds" = --nightly ] && seconds=600
 [ $# -gt 0 ] && shift
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(device_line firmware_commands carmen_log relations mav_log mcap_reader cloud_file config)
