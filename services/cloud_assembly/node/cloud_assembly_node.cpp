@@ -5,7 +5,9 @@
 #include "cloud_assembly_node.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <deque>
+#include <optional>
 
 #include "scanbus/clock.hpp"
 #include "scanbus/cloud_assembly/cloud_builder.hpp"
@@ -169,10 +171,27 @@ class CloudAssembly : public Service {
         ++health_.counter("scans_dropped");
         health_.error("scan dropped: " + why);
       } else {
+        say_if_frames_missing(next.frame, why);
         return;  // its transform may still come, and later scans wait behind it
       }
+      missing_since_.reset();
+      missing_said_ = false;
       pending_.pop_front();
     }
+  }
+
+  // A scan waiting because no transform joins its frame to the fixed frame at all (no
+  // rt/tf_static from pose_estimation yet, say) is normal for a moment after a start; past
+  // a second it is said in Health, naming the frames, before the scans start being dropped.
+  void say_if_frames_missing(const std::string& frame, const std::string& why) {
+    if (buffer_.connected(settings_.fixed_frame, frame)) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (!missing_since_) missing_since_ = now;
+    if (now - *missing_since_ < std::chrono::seconds(1) || missing_said_) return;
+    missing_said_ = true;
+    ++health_.counter("frames_missing");
+    health_.error("scans waiting: " + why + "; no transform has joined '" + frame + "' to '" + settings_.fixed_frame +
+                  "' yet (rt/tf_static, rt/tf)");
   }
 
   void receive(const scanbus::msg::AssembleRequest& request) {
@@ -260,6 +279,8 @@ class CloudAssembly : public Service {
   ContinuousCloud continuous_;
   ScanWindow window_;
   std::deque<PendingScan> pending_;
+  std::optional<std::chrono::steady_clock::time_point> missing_since_;  // frames not joined since
+  bool missing_said_ = false;
   double newest_ = 0;
   size_t published_size_ = 0;
   Writer<sensor_msgs::msg::PointCloud2PubSubType> assembled_, elevation_;

@@ -133,6 +133,10 @@ Eigen::Isometry3d TransformBuffer::lookup(const std::string& target, const std::
   return up_to(target, *common, stamp).inverse() * up_to(source, *common, stamp);
 }
 
+bool TransformBuffer::connected(const std::string& target, const std::string& source) const {
+  return chain(target).back() == chain(source).back();  // the same root: one tree
+}
+
 std::optional<Eigen::Isometry3d> TransformBuffer::try_lookup(const std::string& target, const std::string& source,
                                                              double stamp, std::string* why) const {
   try {

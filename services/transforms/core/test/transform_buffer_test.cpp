@@ -80,7 +80,9 @@ TEST(TransformBuffer, ErrorsNameTheFrameAndTheTime) {
   std::string why;
   EXPECT_FALSE(buffer.try_lookup("map", "laser", 0.5, &why));
   EXPECT_NE(why.find("not connected"), std::string::npos) << why;
+  EXPECT_FALSE(buffer.connected("map", "laser"));
   buffer.set_static("base_link", "laser", Eigen::Isometry3d::Identity());
+  EXPECT_TRUE(buffer.connected("map", "laser"));  // at any time, though not at every
   EXPECT_TRUE(buffer.try_lookup("map", "laser", 1.04));
   EXPECT_FALSE(buffer.try_lookup("map", "laser", 1.2, &why));
   EXPECT_NE(why.find("'map' -> 'base_link'"), std::string::npos) << why;

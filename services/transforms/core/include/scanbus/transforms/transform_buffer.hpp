@@ -65,6 +65,8 @@ class TransformBuffer {
   // The same without throwing: none, with the reason in `why`.
   std::optional<Eigen::Isometry3d> try_lookup(const std::string& target, const std::string& source, double stamp,
                                               std::string* why = nullptr) const;
+  // Whether a chain of transforms joins the frames at all (at some time, if not at every).
+  bool connected(const std::string& target, const std::string& source) const;
 
  private:
   struct Edge {
