@@ -92,11 +92,10 @@ class ScannerPipeline : public ::testing::Test {
     observer_ = std::make_unique<ScannerObserver>(domain);
   }
 
-  std::unique_ptr<ChildProcess> start_scanner_io(const std::string& extra) {
+  std::unique_ptr<ChildProcess> start_scanner_io(const std::string& extra,
+                                                const std::string& reconnect = "  reconnect_min: 0.05\n  reconnect_max: 0.5\n") {
     const std::string config = work_ + "/scanner_io.yaml";
-    std::ofstream(config) << "service:\n  health_period: 0.2\nscanner_io:\n  port: " << link_
-                          << "\n  reconnect_min: 0.05\n  reconnect_max: 0.5\n"
-                          << extra;
+    std::ofstream(config) << "service:\n  health_period: 0.2\nscanner_io:\n  port: " << link_ << "\n" << reconnect << extra;
     return std::make_unique<ChildProcess>(SCANBUS_CLI, std::vector<std::string>{"run", "scanner_io", "--config", config},
                                           work_ + "/scanner_io.log");
   }
@@ -207,6 +206,26 @@ TEST_F(ScannerPipeline, ReconnectsAfterUnplugAndScansAgain) {
   });
   EXPECT_TRUE(gap_reported);
   EXPECT_FALSE(scanner_io->exited().has_value());
+}
+
+// A device plugged in after the back-off has grown long is opened at once: while the device
+// node is missing, scanner_io looks for it every reconnect_min. Here the back-off has reached
+// 6.4 s when the device appears; without the look-out the next attempt would come about 5 s
+// later.
+TEST_F(ScannerPipeline, TakesUpAReplugAtOnceWhateverTheBackOff) {
+  use_domain(82);
+  auto scanner_io = start_scanner_io("", "  reconnect_min: 0.1\n  reconnect_max: 30\n");
+  wait_for_discovery();
+  std::this_thread::sleep_for(7s);  // retries at 0.1, 0.3, 0.7, 1.5, 3.1 and 6.3 s; the next at 12.7 s
+  const auto plugged = std::chrono::steady_clock::now();
+  auto simulator = start_simulator({"--speed", "20"});
+  auto connected = [&] {
+    return std::any_of(observer_->statuses.begin(), observer_->statuses.end(),
+                       [](const auto& s) { return s.message().rfind("connected", 0) == 0; });
+  };
+  ASSERT_TRUE(observer_->wait_until(connected, 10s)) << log("scanner_io.log");
+  const double after = std::chrono::duration<double>(std::chrono::steady_clock::now() - plugged).count();
+  EXPECT_LT(after, 1.5) << "connected " << after << " s after the device appeared\n" << log("scanner_io.log");
 }
 
 TEST_F(ScannerPipeline, DamagedStreamIsCountedNeverFatal) {

@@ -1,12 +1,12 @@
 // Thin DDS node: whole scans in (rt/scanner/scan_cloud); after `scans` of them, the room's
-// RoomMeasurement and its walls' inliers coloured per wall out. Measuring runs on the
-// service's thread, not on the DDS listener's.
+// RoomMeasurement and its walls' inliers coloured per wall out, stamped with the newest scan
+// they were measured from (so a subscriber can tell which scan a room came from). Measuring
+// runs on the service's thread, not on the DDS listener's.
 #include "room_measurement_node.hpp"
 
 #include <condition_variable>
 #include <cstring>
 
-#include "scanbus/clock.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/point_cloud.hpp"
 #include "scanbus/room_measurement/room_measurement.hpp"
@@ -33,14 +33,16 @@ class RoomMeasurementService : public Service {
   int run() override {
     while (!StopSignal::requested()) {
       std::vector<Eigen::Vector3f> points;
+      builtin_interfaces::msg::Time stamp;
       {
         std::unique_lock<std::mutex> lock(mutex_);
         ready_.wait_for(lock, std::chrono::milliseconds(200), [this] { return scans_held_ >= scans_needed_; });
         if (scans_held_ < scans_needed_) continue;
         points.swap(points_);
+        stamp = newest_stamp_;
         scans_held_ = 0;
       }
-      measure(points);
+      measure(points, stamp);
     }
     return 0;
   }
@@ -57,18 +59,19 @@ class RoomMeasurementService : public Service {
     }
     std::lock_guard<std::mutex> lock(mutex_);
     for (const auto& point : points) points_.push_back(point.position);
+    newest_stamp_ = cloud.header().stamp();
     ++scans_held_;
     ++health_.counter("scans_received");
     if (scans_held_ >= scans_needed_) ready_.notify_one();
   }
 
-  void measure(const std::vector<Eigen::Vector3f>& points) {
+  void measure(const std::vector<Eigen::Vector3f>& points, const builtin_interfaces::msg::Time& stamp) {
     const RoomResult result = measure_room(points, settings_);
     log_->info("{} from {} points in {:.1f} ms: {}", status_name(result.status), result.points_in, result.elapsed_ms,
                result.message);
     ++health_.counter(result.status == RoomStatus::Ok ? "rooms_measured" : "rooms_not_measured");
-    measurement_.write(to_message(result, frame_id_, now_stamp()));
-    walls_.write(walls_cloud(result, frame_id_, now_stamp()));
+    measurement_.write(to_message(result, frame_id_, stamp));
+    walls_.write(walls_cloud(result, frame_id_, stamp));
   }
 
   std::shared_ptr<spdlog::logger> log_;
@@ -78,6 +81,7 @@ class RoomMeasurementService : public Service {
   std::mutex mutex_;
   std::condition_variable ready_;
   std::vector<Eigen::Vector3f> points_;
+  builtin_interfaces::msg::Time newest_stamp_;
   size_t scans_held_ = 0;
   size_t scans_needed_ = 3;
   std::string frame_id_;

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <deque>
+#include <filesystem>
 
 #include "scanbus/clock.hpp"
 #include "scanbus/messages.hpp"
@@ -116,9 +117,22 @@ class ScannerIo : public Service {
     }
     state_ = Status::DISCONNECTED;
     publish_status(error);
-    StopSignal::wait_for(std::chrono::milliseconds(static_cast<int>(retry_delay * 1000)));
+    wait_to_reconnect(retry_delay);
     retry_delay = std::min(retry_delay * 2, settings_.reconnect_max);
     return false;
+  }
+
+  // Waits the back-off before the next open. While the device node is missing (unplugged),
+  // it is looked for every reconnect_min, so a replug is taken up at once, however long the
+  // back-off has grown: the back-off spares a device that is there and fails to open.
+  void wait_to_reconnect(double delay) {
+    std::error_code error;
+    const bool missing = !std::filesystem::exists(settings_.port, error);
+    const double step = missing ? settings_.reconnect_min : delay;
+    for (double waited = 0; waited < delay; waited += step) {
+      if (StopSignal::wait_for(std::chrono::milliseconds(static_cast<int>(1000 * std::min(step, delay - waited))))) return;
+      if (missing && std::filesystem::exists(settings_.port, error)) return;
+    }
   }
 
   static double seconds_now() {
