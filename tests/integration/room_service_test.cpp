@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "scanbus/child_process.hpp"
+#include "scanbus/clock.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/point_cloud.hpp"
 #include "scanbus/service.hpp"
@@ -69,7 +70,8 @@ TEST(RoomService, MeasuresAScanAndLatchesTheResult) {
   Participant participant(DdsSettings{"", "localhost", 83}, "scanbus/test_room");
   Writer<sensor_msgs::msg::PointCloud2PubSubType> scans(participant, "rt/scanner/scan_cloud");
   ASSERT_TRUE(scans.wait_for_readers(1, 20s));
-  ASSERT_TRUE(scans.write(to_point_cloud2(box_room(), "scanner", {})));
+  const builtin_interfaces::msg::Time scan_stamp = to_stamp(1.7e9 + 0.25);
+  ASSERT_TRUE(scans.write(to_point_cloud2(box_room(), "scanner", scan_stamp)));
   const auto walls = first_sample<sensor_msgs::msg::PointCloud2PubSubType>(participant, "rt/room/walls", 30s);
   ASSERT_TRUE(walls.has_value());
   std::this_thread::sleep_for(500ms);
@@ -79,6 +81,9 @@ TEST(RoomService, MeasuresAScanAndLatchesTheResult) {
   const auto room = first_sample<scanbus::msg::RoomMeasurementPubSubType>(late, "rt/room/measurement", 10s);
   ASSERT_TRUE(room.has_value());
   EXPECT_EQ(room->status(), scanbus::msg::RoomMeasurement_Constants::OK) << room->message();
+  // Stamped with the scan it was measured from, so a subscriber can pair them.
+  EXPECT_EQ(room->header().stamp(), scan_stamp);
+  EXPECT_EQ(walls->header().stamp(), scan_stamp);
   ASSERT_EQ(room->walls().size(), 4u);
   ASSERT_EQ(room->corners().size(), 4u);
   EXPECT_NEAR(room->floor_area(), 5.0 * 3.5, 0.02);
