@@ -168,22 +168,23 @@ struct Outage {  // a service down: from its kill to its first sample from the n
 };
 
 class Soak {
+  // A reader's handler that logs each sample of `topic` by its header stamp.
+  auto logger(const char* topic) {
+    return [this, topic](const auto& m, const auto& info) { log_.at(topic).add(to_seconds(m.header().stamp()), info); };
+  }
+
  public:
   explicit Soak(Participant& participant)
-      : scans_(participant, "rt/scan", [this](const auto& m, const auto& i) { log_.at("rt/scan").add(to_seconds(m.header().stamp()), i); }),
-        matches_(participant, "rt/scan_match",
-                 [this](const auto& m, const auto& i) { log_.at("rt/scan_match").add(to_seconds(m.header().stamp()), i); }),
-        poses_(participant, "rt/pose", [this](const auto& m, const auto& i) { log_.at("rt/pose").add(to_seconds(m.header().stamp()), i); }),
+      : scans_(participant, "rt/scan", logger("rt/scan")),
+        matches_(participant, "rt/scan_match", logger("rt/scan_match")),
+        poses_(participant, "rt/pose", logger("rt/pose")),
         clouds_(participant, "rt/cloud/assembled",
                 [this](const auto& m, const auto& i) {
                   log_.at("rt/cloud/assembled").add(to_seconds(m.header().stamp()), i, m.width() * m.height());
                 }),
-        revolutions_(participant, "rt/scanner/cloud",
-                     [this](const auto& m, const auto& i) { log_.at("rt/scanner/cloud").add(to_seconds(m.header().stamp()), i); }),
-        room_scans_(participant, "rt/scanner/scan_cloud",
-                    [this](const auto& m, const auto& i) { log_.at("rt/scanner/scan_cloud").add(to_seconds(m.header().stamp()), i); }),
-        rooms_(participant, "rt/room/measurement",
-               [this](const auto& m, const auto& i) { log_.at("rt/room/measurement").add(to_seconds(m.header().stamp()), i); }),
+        revolutions_(participant, "rt/scanner/cloud", logger("rt/scanner/cloud")),
+        room_scans_(participant, "rt/scanner/scan_cloud", logger("rt/scanner/scan_cloud")),
+        rooms_(participant, "rt/room/measurement", logger("rt/room/measurement")),
         health_(participant, "rt/scanbus/health", [this](const auto& m, const auto&) { services_.health(m); }) {}
 
   const TopicLog& log(const std::string& topic) const { return log_.at(topic); }
