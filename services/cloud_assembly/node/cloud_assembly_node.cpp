@@ -258,15 +258,7 @@ class CloudAssembly : public Service {
       return;
     }
     std::vector<CloudPoint> cells;
-    cells.reserve(grid.filled());
-    for (size_t row = 0; row < grid.rows; ++row)
-      for (size_t column = 0; column < grid.columns; ++column) {
-        const size_t i = grid.index(row, column);
-        if (grid.count[i] == 0) continue;
-        const Eigen::Vector2d centre = grid.centre(row, column);
-        cells.push_back({Eigen::Vector3f(static_cast<float>(centre.x()), static_cast<float>(centre.y()), grid.height[i]),
-                         grid.stdev[i]});
-      }
+    for (const auto& cell : grid.filled_cells()) cells.push_back({cell.top, cell.stdev});
     elevation_.write(to_point_cloud2(cells, settings_.fixed_frame, to_stamp(stamp), "stdev"));
     health_.counter("elevation_cells") = cells.size();
   }

@@ -17,6 +17,19 @@ size_t ElevationGrid::filled() const {
   return cells;
 }
 
+std::vector<ElevationGrid::Cell> ElevationGrid::filled_cells() const {
+  std::vector<Cell> cells;
+  cells.reserve(filled());
+  for (size_t row = 0; row < rows; ++row)
+    for (size_t column = 0; column < columns; ++column) {
+      const size_t i = index(row, column);
+      if (count[i] == 0) continue;
+      const Eigen::Vector2d at = centre(row, column);
+      cells.push_back({Eigen::Vector3f(static_cast<float>(at.x()), static_cast<float>(at.y()), height[i]), stdev[i]});
+    }
+  return cells;
+}
+
 ElevationGrid grid_elevation(const std::vector<Eigen::Vector3f>& points, const ElevationGridSettings& settings) {
   if (!(settings.cell_size > 0) || !std::isfinite(settings.cell_size))
     throw ElevationGridError("cell size " + std::to_string(settings.cell_size) + " m: must be positive");

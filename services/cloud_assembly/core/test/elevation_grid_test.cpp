@@ -54,6 +54,10 @@ TEST(ElevationGrid, SparseCellsAndNonFinitePointsAreLeftOut) {
   EXPECT_TRUE(std::isnan(grid.height[1]));
   EXPECT_EQ(grid.count[1], 0u);
   EXPECT_EQ(grid.filled(), 1u);
+  const auto cells = grid.filled_cells();  // only the cell with a height, at its centre
+  ASSERT_EQ(cells.size(), 1u);
+  EXPECT_TRUE(cells[0].top.isApprox(Eigen::Vector3f(0.5f, 0.5f, 2.0f))) << cells[0].top.transpose();
+  EXPECT_FLOAT_EQ(cells[0].stdev, grid.stdev[0]);
 }
 
 TEST(ElevationGrid, BadInputIsRefusedWithTheReason) {

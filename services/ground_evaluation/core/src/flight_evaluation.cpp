@@ -33,12 +33,7 @@ void grid_fused_cloud(const FlightEvaluationSettings& settings, FlightEvaluation
   result.elevation = cloud_assembly::grid_elevation(fused, settings.elevation);
   if (!result.has_ground) return;
   std::vector<Eigen::Vector3f> cells;
-  for (size_t row = 0; row < result.elevation.rows; ++row)
-    for (size_t column = 0; column < result.elevation.columns; ++column) {
-      const float height = result.elevation.height[result.elevation.index(row, column)];
-      const Eigen::Vector2d centre = result.elevation.centre(row, column);
-      if (std::isfinite(height)) cells.emplace_back(static_cast<float>(centre.x()), static_cast<float>(centre.y()), height);
-    }
+  for (const auto& cell : result.elevation.filled_cells()) cells.push_back(cell.top);
   result.elevation_error = ground_model_error(cells, cell_average_truth(settings.true_ground, settings.elevation.cell_size));
 }
 

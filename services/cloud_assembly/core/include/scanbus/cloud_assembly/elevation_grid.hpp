@@ -35,6 +35,13 @@ struct ElevationGrid {
   // The cell's centre in the map frame.
   Eigen::Vector2d centre(size_t row, size_t column) const;
   size_t filled() const;
+
+  struct Cell {
+    Eigen::Vector3f top;  // the cell's centre at its mean height, map frame
+    float stdev;          // m, as above
+  };
+  // The cells with a height, in raster order.
+  std::vector<Cell> filled_cells() const;
 };
 
 struct ElevationGridError : std::runtime_error {
