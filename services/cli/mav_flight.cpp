@@ -138,14 +138,11 @@ MavFlightResult run_mav_flight(const MavFlightOptions& options) {
   std::lock_guard<std::mutex> lock(mutex);
   result.poses = heights.size();
   const auto truth = ground_evaluation::HeightSeries::truth_of(log);
-  double squared = 0;
-  for (const auto& [stamp, height] : heights) squared += std::pow(height - truth.at(stamp), 2);
-  result.fused_rmse = heights.empty() ? NAN : std::sqrt(squared / static_cast<double>(heights.size()));
+  result.fused_rmse = ground_evaluation::height_rmse(heights, truth);
   const double origin_altitude = log.meta_of("origin", 3)[2];
-  squared = 0;
-  for (const auto& baro : log.baros)
-    squared += std::pow(altitude_at_pressure(baro.pressure) - origin_altitude - truth.at(baro.stamp), 2);
-  result.barometer_rmse = std::sqrt(squared / static_cast<double>(log.baros.size()));
+  std::vector<std::pair<double, double>> barometer;
+  for (const auto& baro : log.baros) barometer.emplace_back(baro.stamp, altitude_at_pressure(baro.pressure) - origin_altitude);
+  result.barometer_rmse = ground_evaluation::height_rmse(barometer, truth);
   for (const auto& point : from_point_cloud2(*cloud)) result.cloud.push_back(point.position);
   if (const auto box = log.meta.find("boxes"); box != log.meta.end() && box->second.size() == 3) {
     result.box_size = Eigen::Vector3d(box->second[0], box->second[1], box->second[2]);

@@ -65,6 +65,13 @@ double HeightSeries::at(double stamp) const {
   return (1 - weight) * before.second + weight * later->second;
 }
 
+double height_rmse(const std::vector<std::pair<double, double>>& stamped_heights, const HeightSeries& truth) {
+  if (stamped_heights.empty()) return NAN;
+  double squared = 0;
+  for (const auto& [stamp, height] : stamped_heights) squared += std::pow(height - truth.at(stamp), 2);
+  return std::sqrt(squared / static_cast<double>(stamped_heights.size()));
+}
+
 HeightSeries HeightSeries::truth_of(const sensor_replay::MavLog& log) {
   HeightSeries truth;
   for (const auto& record : log.truths) truth.add(record.stamp, record.position.z());
@@ -139,7 +146,6 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
   result.scans = log.lasers.size();
   std::map<double, size_t> scan_at;  // laser records waiting for their pose
   std::optional<double> integrated;  // the paper's height: first barometer + the changes
-  double squared[kHeightSources] = {0, 0, 0, 0};
   std::chrono::duration<double> fusion_time{0};
   const auto take_poses = [&](bool all) {
     const auto started = std::chrono::steady_clock::now();
@@ -158,7 +164,6 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
            pose.position_sigma.z()});
       const auto points = cloud_assembly::scan_points(scan_data(log.lasers[found->second]), settings.gating);
       for (int source = 0; source < sources; ++source) {
-        squared[source] += std::pow(heights[source] - true_height, 2);
         Eigen::Isometry3d body = Eigen::Isometry3d::Identity();
         body.translation() = Eigen::Vector3d(pose.position.x(), pose.position.y(), heights[source]);
         body.linear() = pose.orientation.toRotationMatrix();
@@ -203,9 +208,11 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
   take_poses(true);  // the log has ended: nothing more will come
   if (progress) progress(records.size(), records.size());
 
-  for (int source = 0; source < kHeightSources; ++source)
-    result.height_rmse[source] =
-        result.poses && source < sources ? std::sqrt(squared[source] / static_cast<double>(result.poses)) : NAN;
+  for (int source = 0; source < kHeightSources; ++source) {  // GPS heights are NaN without fixes
+    std::vector<std::pair<double, double>> stamped;
+    for (const auto& h : result.heights) stamped.emplace_back(h.stamp, h.height[source]);
+    result.height_rmse[source] = height_rmse(stamped, truth);
+  }
   for (int k = 1; k <= 2; ++k) {
     const auto within = std::count_if(result.heights.begin(), result.heights.end(), [k](const HeightSample& h) {
       return std::abs(h.height[static_cast<int>(HeightSource::Fused)] - h.truth) <= k * h.fused_sigma;

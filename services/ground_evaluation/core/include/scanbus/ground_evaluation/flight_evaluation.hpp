@@ -74,6 +74,10 @@ class HeightSeries {
   std::vector<std::pair<double, double>> samples_;  // by stamp
 };
 
+// Root mean square of each height's difference from the truth at its stamp (stamp, height
+// pairs); NaN when there are none.
+double height_rmse(const std::vector<std::pair<double, double>>& stamped_heights, const HeightSeries& truth);
+
 enum class HeightSource { Barometer = 0, ScanMatcher = 1, Fused = 2, Gps = 3 };
 constexpr int kHeightSources = 4;
 constexpr const char* kHeightSourceNames[kHeightSources] = {"barometer", "scan_matcher", "fused", "gps"};
