@@ -1,5 +1,7 @@
 // Thin DDS node: serial lines in; SphericalScan and a PointCloud2 per revolution, the
-// whole scan's cloud, and ScannerStatus out; ScannerCommand in, as device commands.
+// whole scan's cloud, and ScannerStatus out; ScannerCommand in, as device commands. The
+// session's logic is ScannerSession's; here are the port, its back-off and watchdog timing,
+// and the bus.
 #include "scanner_io_node.hpp"
 
 #include <cstdio>
@@ -10,7 +12,7 @@
 #include "scanbus/messages.hpp"
 #include "scanbus/point_cloud.hpp"
 #include "scanbus/scanner_io/device_watchdog.hpp"
-#include "scanbus/scanner_io/scan_assembler.hpp"
+#include "scanbus/scanner_io/scanner_session.hpp"
 #include "serial_port.hpp"
 
 namespace scanbus::scanner_io {
@@ -23,15 +25,19 @@ namespace Command = scanbus::msg::ScannerCommand_Constants;
 struct Settings {
   std::string port;
   int baud;
-  Dialect dialect;
-  bool autostart;
-  int resolution;
-  int scans;
+  SessionSettings session;
   double reconnect_min, reconnect_max;
   double stall_timeout;
-  RangeGate gate;
   std::string frame_id;
 };
+
+uint8_t status_state(DeviceState state) {
+  switch (state) {
+    case DeviceState::Idle: return Status::IDLE;
+    case DeviceState::Scanning: return Status::SCANNING;
+    default: return Status::DISCONNECTED;
+  }
+}
 
 Settings read_settings(const Config& config) {
   Settings s;
@@ -39,15 +45,16 @@ Settings read_settings(const Config& config) {
   s.baud = static_cast<int>(config.integer("baud", 115200, 1, 4000000));
   if (!supported_baud(s.baud))
     throw ConfigError(config.origin() + ": key '" + config.path_of("baud") + "' must be one of 9600, 19200, 38400, 57600, 115200, 230400");
-  s.dialect = config.choice("protocol", "scanbus", {"scanbus", "legacy"}) == "scanbus" ? Dialect::Scanbus : Dialect::Legacy;
-  s.autostart = config.flag("autostart", true);
-  s.resolution = static_cast<int>(config.integer("resolution", 1, 0, 2));
-  s.scans = static_cast<int>(config.integer("scans", 1, 0, 1000000));
+  s.session.dialect =
+      config.choice("protocol", "scanbus", {"scanbus", "legacy"}) == "scanbus" ? Dialect::Scanbus : Dialect::Legacy;
+  s.session.autostart = config.flag("autostart", true);
+  s.session.resolution = static_cast<int>(config.integer("resolution", 1, 0, 2));
+  s.session.scans = static_cast<int>(config.integer("scans", 1, 0, 1000000));
   s.reconnect_min = config.number("reconnect_min", 0.2, 0.01, 60);
   s.reconnect_max = config.number("reconnect_max", 5.0, s.reconnect_min, 600);
   s.stall_timeout = config.number("stall_timeout", 5.0, 0.1, 3600);
-  s.gate.min = config.number("min_range", 0.05, 0, 1000);
-  s.gate.max = config.number("max_range", 40.0, s.gate.min, 1000);
+  s.session.gate.min = config.number("min_range", 0.05, 0, 1000);
+  s.session.gate.max = config.number("max_range", 40.0, s.session.gate.min, 1000);
   s.frame_id = config.text("frame_id", "scanner");
   return s;
 }
@@ -59,7 +66,7 @@ class ScannerIo : public Service {
         health_(context.health),
         settings_(read_settings(context.config.section("scanner_io"))),
         port_(settings_.port, settings_.baud),
-        assembler_(settings_.gate),
+        session_(settings_.session),
         watchdog_(settings_.stall_timeout, settings_.reconnect_min, settings_.reconnect_max),
         spherical_(context.participant, "rt/scanner/spherical"),
         revolution_cloud_(context.participant, "rt/scanner/cloud"),
@@ -81,11 +88,11 @@ class ScannerIo : public Service {
         continue;
       }
       retry_delay = settings_.reconnect_min;
-      for (const auto& line : lines) handle(parse_line(line, settings_.dialect));
+      for (const auto& line : lines) handle(parse_line(line, settings_.session.dialect));
       send_pending_commands();
       const double now = seconds_now();
       if (!lines.empty()) watchdog_.line(now);
-      watchdog_.expect(state_ == Status::SCANNING || start_sent_ || status_asked_, now);
+      watchdog_.expect(session_.expecting_lines(), now);
       if (watchdog_.stalled(now)) {
         stalled(now);
         continue;
@@ -104,9 +111,8 @@ class ScannerIo : public Service {
     std::string error;
     if (port_.open(error)) {
       log_->info("connected to {}", settings_.port);
-      state_ = Status::IDLE;
-      // A device that booted earlier said hello to no one: ask where it stands.
-      if (settings_.dialect == Dialect::Scanbus) status_asked_ = port_.write_line("STATUS");
+      session_.connected();
+      send_to_device();
       publish_status("connected" + gap_text());
       return true;
     }
@@ -115,7 +121,6 @@ class ScannerIo : public Service {
       health_.error(error);
       last_error_ = error;
     }
-    state_ = Status::DISCONNECTED;
     publish_status(error);
     wait_to_reconnect(retry_delay);
     retry_delay = std::min(retry_delay * 2, settings_.reconnect_max);
@@ -146,19 +151,16 @@ class ScannerIo : public Service {
     ++health_.counter("stalls");
     char why[128];
     std::snprintf(why, sizeof(why), "device stalled: no line for %.1f s while %s; resetting the session",
-                  watchdog_.silent_for(now), state_ == Status::SCANNING ? "scanning" : "waiting for an answer");
+                  watchdog_.silent_for(now), session_.state() == DeviceState::Scanning ? "scanning" : "waiting for an answer");
     port_.close();
     disconnected(why);
-    status_asked_ = false;
     StopSignal::wait_for(std::chrono::milliseconds(static_cast<int>(watchdog_.reset() * 1000)));
   }
 
   void disconnected(const std::string& why) {
     log_->warn("{}: {}; partial scan dropped", settings_.port, why);
-    assembler_.abort();
-    start_sent_ = false;
+    session_.disconnected();
     lost_at_ = std::chrono::steady_clock::now();
-    state_ = Status::DISCONNECTED;
     last_error_.clear();
     health_.error(settings_.port + ": " + why);
     publish_status(why);
@@ -173,56 +175,25 @@ class ScannerIo : public Service {
   }
 
   void handle(const DeviceLine& line) {
-    const ScanOutput output = assembler_.add(line, std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count());
-    switch (line.kind) {
-      case LineKind::Hello:
-        firmware_ = line.text;
-        log_->info("device says hello: protocol {}, firmware {}", line.protocol_version, line.text);
-        if (line.protocol_version != 1) health_.error("device speaks protocol " + std::to_string(line.protocol_version) + ", expected 1");
-        start_sent_ = false;  // a boot: any START sent before is gone
-        status_asked_ = false;
-        maybe_start();
-        break;
-      case LineKind::Status:
-        status_asked_ = false;
-        device_status_ = line.status;
-        state_ = line.status.state == 2 ? Status::SCANNING : Status::IDLE;
-        if (state_ == Status::IDLE) maybe_start();
-        break;
-      case LineKind::DeviceError:
-        log_->warn("device error {}: {}", line.error_code, line.text);
-        health_.error("device: " + line.text);
-        break;
-      case LineKind::Measurement:
-        state_ = Status::SCANNING;
-        break;
-      case LineKind::Done:
-        state_ = Status::IDLE;
-        start_sent_ = false;
-        break;
-      default:
-        break;
-    }
+    const double stamp = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+    const ScanOutput output = session_.line(line, stamp);
+    if (line.kind == LineKind::Hello) log_->info("device says hello: protocol {}, firmware {}", line.protocol_version, line.text);
     if (output.revolution) publish_revolution(*output.revolution);
     if (output.scan) {
       scan_cloud_.write(to_point_cloud2(*output.scan, settings_.frame_id, now_stamp()));
       log_->info("scan complete: {} points", output.scan->size());
     }
-    if (line.kind == LineKind::Done) maybe_start();
+    send_to_device();
     update_counters();
   }
 
-  // Starts the next scan when configured to and none is under way.
-  void maybe_start() {
-    const uint64_t completed = assembler_.counters().scans;
-    if (settings_.autostart && !start_sent_ && (settings_.scans == 0 || completed < static_cast<uint64_t>(settings_.scans)))
-      start_scan();
-  }
-
-  void start_scan() {
-    start_sent_ = true;
-    port_.write_line("RES " + std::to_string(settings_.resolution));
-    port_.write_line("START");
+  // What the session has for the device, and what went wrong.
+  void send_to_device() {
+    for (const auto& line : session_.take_to_device()) port_.write_line(line);
+    for (const auto& problem : session_.take_problems()) {
+      log_->warn("{}", problem);
+      health_.error(problem);
+    }
   }
 
   void publish_revolution(const Revolution& revolution) {
@@ -257,29 +228,19 @@ class ScannerIo : public Service {
       commands.swap(pending_commands_);
     }
     for (const auto& command : commands) {
-      if (settings_.dialect == Dialect::Legacy) {
-        health_.error("commands are not supported with the legacy protocol");
-        continue;
-      }
       switch (command.command()) {
-        case Command::START: start_scan(); break;
-        case Command::STOP: port_.write_line("STOP"); break;
-        case Command::STATUS: port_.write_line("STATUS"); break;
-        case Command::SET_RESOLUTION:
-          if (command.resolution() > 2) {
-            health_.error("resolution " + std::to_string(command.resolution()) + " does not exist (0, 1, 2)");
-          } else {
-            settings_.resolution = command.resolution();
-            port_.write_line("RES " + std::to_string(settings_.resolution));
-          }
-          break;
+        case Command::START: session_.command({SessionCommand::Start}); break;
+        case Command::STOP: session_.command({SessionCommand::Stop}); break;
+        case Command::STATUS: session_.command({SessionCommand::Status}); break;
+        case Command::SET_RESOLUTION: session_.command({SessionCommand::SetResolution, command.resolution()}); break;
         default: health_.error("unknown scanner command " + std::to_string(command.command()));
       }
     }
+    send_to_device();
   }
 
   void update_counters() {
-    const ScanCounters& c = assembler_.counters();
+    const ScanCounters& c = session_.counters();
     health_.counter("lines") = c.lines;
     health_.counter("measurements") = c.measurements;
     health_.counter("lost_lines") = c.lost_lines;
@@ -292,14 +253,14 @@ class ScannerIo : public Service {
   }
 
   void publish_status(const std::string& message) {
-    const ScanCounters& c = assembler_.counters();
+    const ScanCounters& c = session_.counters();
     scanbus::msg::ScannerStatus status;
     status.header().stamp(now_stamp());
     status.device(settings_.port);
-    status.firmware(firmware_);
-    status.state(state_);
-    status.resolution(static_cast<uint8_t>(settings_.resolution));
-    status.rpm(static_cast<float>(device_status_.rpm));
+    status.firmware(session_.firmware());
+    status.state(status_state(session_.state()));
+    status.resolution(static_cast<uint8_t>(session_.resolution()));
+    status.rpm(static_cast<float>(session_.device_status().rpm));
     status.revolutions(static_cast<uint32_t>(c.revolutions));
     status.measurements(c.measurements);
     status.lost_lines(c.lost_lines);
@@ -315,7 +276,7 @@ class ScannerIo : public Service {
   HealthReporter& health_;
   Settings settings_;
   SerialPort port_;
-  ScanAssembler assembler_;
+  ScannerSession session_;
   DeviceWatchdog watchdog_;
   Writer<scanbus::msg::SphericalScanPubSubType> spherical_;
   Writer<sensor_msgs::msg::PointCloud2PubSubType> revolution_cloud_;
@@ -324,12 +285,7 @@ class ScannerIo : public Service {
   std::mutex mutex_;
   std::deque<scanbus::msg::ScannerCommand> pending_commands_;
   Reader<scanbus::msg::ScannerCommandPubSubType> commands_;
-  uint8_t state_ = Status::DISCONNECTED;
-  DeviceStatus device_status_;
-  std::string firmware_;
   std::string last_error_;
-  bool start_sent_ = false;
-  bool status_asked_ = false;  // STATUS sent on connecting, not answered yet
   std::optional<std::chrono::steady_clock::time_point> lost_at_;
 };
 
