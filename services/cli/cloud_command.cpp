@@ -11,13 +11,15 @@
 #include <mutex>
 #include <optional>
 
-#include "cloud_files.hpp"
+#include "cloud_png.hpp"
 #include "cloud_request.hpp"
 #include "commands.hpp"
 #include "scanbus/cloud_assembly/elevation_grid.hpp"
 #include "scanbus/cloud_dem/geotiff.hpp"
 #include "scanbus/clock.hpp"
+#include "scanbus/cloud_io/cloud_files.hpp"
 #include "scanbus/messages.hpp"
+#include "scanbus/point_cloud.hpp"
 #include "scanbus/service.hpp"
 
 namespace scanbus::cli {
@@ -63,7 +65,7 @@ int run_save(const SaveOptions& options) {
     std::cerr << "scanbus cloud save: " << e.what() << "\n";
     return 1;
   }
-  write_pcd(options.out, points);
+  cloud_io::write_pcd(options.out, points);
   std::printf("wrote %s: %zu points, frame %s\n", options.out.c_str(), points.size(), cloud->header().frame_id().c_str());
   return 0;
 }
@@ -75,8 +77,8 @@ struct RenderOptions {
 int run_render(const RenderOptions& options) {
   std::vector<Eigen::Vector3f> positions;
   try {
-    positions = read_cloud(options.cloud, metres_per_unit(options.unit));
-  } catch (const CloudFileError& e) {
+    positions = cloud_io::read_cloud(options.cloud, cloud_io::metres_per_unit(options.unit));
+  } catch (const cloud_io::CloudFileError& e) {
     std::cerr << "scanbus cloud render: " << e.what() << "\n";
     return 2;
   }
@@ -101,7 +103,7 @@ struct DemOptions {
 
 int run_dem(const DemOptions& options) {
   try {
-    const auto grid = cloud_assembly::grid_elevation(read_cloud(options.cloud, metres_per_unit(options.unit)), options.grid);
+    const auto grid = cloud_assembly::grid_elevation(cloud_io::read_cloud(options.cloud, cloud_io::metres_per_unit(options.unit)), options.grid);
     cloud_dem::write_geotiff(options.out, grid, {options.origin[0], options.origin[1], options.origin[2]});
     float low = INFINITY, high = -INFINITY;
     for (float h : grid.height)
@@ -109,7 +111,7 @@ int run_dem(const DemOptions& options) {
     std::printf("wrote %s: %zu x %zu cells of %.2f m, %zu with a height (map z %.3f to %.3f m)\n", options.out.c_str(),
                 grid.columns, grid.rows, grid.cell_size, grid.filled(), low, high);
     return 0;
-  } catch (const CloudFileError& e) {
+  } catch (const cloud_io::CloudFileError& e) {
     std::cerr << "scanbus cloud dem: " << e.what() << "\n";
   } catch (const cloud_assembly::ElevationGridError& e) {
     std::cerr << "scanbus cloud dem: " << options.cloud << ": " << e.what() << "\n";

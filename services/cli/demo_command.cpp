@@ -7,12 +7,13 @@
 #include <filesystem>
 #include <iostream>
 
-#include "cloud_files.hpp"
+#include "cloud_png.hpp"
 #include "commands.hpp"
 #include "floor_plan.hpp"
 #include "mav_flight.hpp"
 #include "room_report.hpp"
 #include "room_scan.hpp"
+#include "scanbus/cloud_io/cloud_files.hpp"
 #include "scanbus/room_measurement/room_message.hpp"
 
 namespace scanbus::cli {
@@ -69,7 +70,7 @@ int run_demo(const DemoOptions& options) {
   const room_measurement::RoomResult room = room_measurement::from_message(*result.room);
   const std::string pcd = options.out + "/scan.pcd", png = options.out + "/room_top.png",
                     plan = options.out + "/floor_plan.png", drawing = options.out + "/floor_plan.dxf";
-  write_pcd(pcd, result.points);
+  cloud_io::write_pcd(pcd, result.points);
   write_cloud_png(png, result.points, "scanbus demo: built-in room (thesis case 1), simulated scan", CloudView::Top, true);
   std::vector<Eigen::Vector3f> background;
   for (const auto& point : result.points) background.push_back(point.position);
@@ -94,7 +95,7 @@ int run_demo(const DemoOptions& options) {
     for (const auto& p : mav.cloud) points.push_back({p, 0.0f});
     const std::string mav_pcd = options.out + "/mav_cloud.pcd", top = options.out + "/mav_top.png",
                       side = options.out + "/mav_side.png";
-    write_pcd(mav_pcd, points);
+    cloud_io::write_pcd(mav_pcd, points);
     const std::string title = "scanbus demo: MAV scenario IV, ground cloud from the fused poses";
     write_cloud_png(top, points, title, CloudView::Top, false);
     write_cloud_png(side, points, title, CloudView::Side, false);

@@ -11,9 +11,10 @@
 #include <iostream>
 #include <sstream>
 
-#include "cloud_files.hpp"
+#include "cloud_png.hpp"
 #include "commands.hpp"
 #include "scanbus/cloud_dem/geotiff.hpp"
+#include "scanbus/cloud_io/cloud_files.hpp"
 #include "scanbus/ground_evaluation/flight_evaluation.hpp"
 #include "mav_messages.hpp"
 #include "scanbus/config.hpp"
@@ -165,7 +166,7 @@ void write_clouds(const std::string& folder, const std::string& flight, const Fl
     points.reserve(evaluation.cloud[source].size());
     for (const auto& p : evaluation.cloud[source]) points.push_back({p, 0.0f});
     const std::string path = folder + "/" + stem + "_" + ground_evaluation::kHeightSourceNames[source];
-    write_pcd(path + ".pcd", points);
+    cloud_io::write_pcd(path + ".pcd", points);
     write_cloud_png(path + ".png", points, flight + ", height from " + ground_evaluation::kHeightSourceNames[source],
                     CloudView::Top, false);
   }
@@ -301,8 +302,8 @@ struct EvalBoxesOptions {
 int run_eval_boxes(const EvalBoxesOptions& options) {
   std::vector<Eigen::Vector3f> cloud;
   try {
-    cloud = read_cloud(options.cloud, metres_per_unit(options.unit));
-  } catch (const CloudFileError& e) {
+    cloud = cloud_io::read_cloud(options.cloud, cloud_io::metres_per_unit(options.unit));
+  } catch (const cloud_io::CloudFileError& e) {
     std::cerr << "scanbus eval boxes: " << e.what() << "\n";
     return 2;
   }
@@ -339,7 +340,7 @@ int run_eval_ground(const EvalGroundOptions& options) {
                 << "(META scenario: a simulated flight's)\n";
       return 2;
     }
-    const auto cloud = read_cloud(options.cloud, metres_per_unit(options.unit));
+    const auto cloud = cloud_io::read_cloud(options.cloud, cloud_io::metres_per_unit(options.unit));
     std::function<std::optional<double>(const Eigen::Vector2d&)> truth = [&](const Eigen::Vector2d& xy) {
       return world->scored_height(xy, kEdgeMargin);
     };
@@ -357,7 +358,7 @@ int run_eval_ground(const EvalGroundOptions& options) {
     return error.points > 0 ? 0 : 1;
   } catch (const sensor_replay::MavLogError& e) {
     std::cerr << "scanbus eval ground: " << e.what() << "\n";
-  } catch (const CloudFileError& e) {
+  } catch (const cloud_io::CloudFileError& e) {
     std::cerr << "scanbus eval ground: " << e.what() << "\n";
   }
   return 2;

@@ -1,10 +1,10 @@
 #include <iostream>
 
-#include "cloud_files.hpp"
 #include "commands.hpp"
 #include "floor_plan.hpp"
 #include "room_measurement_node.hpp"
 #include "room_report.hpp"
+#include "scanbus/cloud_io/cloud_files.hpp"
 
 namespace scanbus::cli {
 
@@ -27,11 +27,11 @@ int run_measure(const RoomOptions& options) {
     std::cerr << "scanbus room measure: config error: " << e.what() << "\n";
     return 2;
   }
-  const double scale = metres_per_unit(options.unit);
+  const double scale = cloud_io::metres_per_unit(options.unit);
   room_measurement::RoomResult room;
   try {
-    room = room_measurement::measure_room(read_cloud(options.file, scale), settings);
-  } catch (const CloudFileError& e) {
+    room = room_measurement::measure_room(cloud_io::read_cloud(options.file, scale), settings);
+  } catch (const cloud_io::CloudFileError& e) {
     if (options.json) {
       std::cout << nlohmann::json{{"status", "input_error"}, {"message", e.what()}} << "\n";
     } else {

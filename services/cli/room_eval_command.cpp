@@ -5,10 +5,10 @@
 #include <filesystem>
 #include <iostream>
 
-#include "cloud_files.hpp"
 #include "commands.hpp"
 #include "floor_plan.hpp"
 #include "room_measurement_node.hpp"
+#include "scanbus/cloud_io/cloud_files.hpp"
 #include "scanbus/room_evaluation/room_evaluation.hpp"
 
 namespace scanbus::cli {
@@ -29,7 +29,7 @@ void write_cases(const std::string& folder, const std::vector<room_evaluation::R
     const std::string name = folder + "/" + sim::category_name(c.category) + "_" + std::to_string(c.seed);
     std::vector<CloudPoint> points;
     for (const auto& p : c.cloud) points.push_back({p, 0});
-    write_pcd(name + ".pcd", points);
+    cloud_io::write_pcd(name + ".pcd", points);
     write_floor_plan(name + "_plan.png", c.measurement, name, c.cloud);
     write_floor_plan(name + "_plan.dxf", c.measurement, name);
   }

@@ -3,9 +3,9 @@
 #include <filesystem>
 #include <iostream>
 
-#include "cloud_files.hpp"
 #include "commands.hpp"
 #include "room_scan.hpp"
+#include "scanbus/cloud_io/cloud_files.hpp"
 #include "scanbus/sim/scanner_sim.hpp"
 
 namespace scanbus::cli {
@@ -24,7 +24,7 @@ int run_scan(ScanOptions options) {
   std::filesystem::create_directories(options.scan.work_dir);
   options.scan.progress = !options.json && isatty(STDOUT_FILENO);
   const RoomScanResult result = run_room_scan(options.scan);
-  write_pcd(options.out, result.points);
+  cloud_io::write_pcd(options.out, result.points);
   if (options.json) {
     std::cout << nlohmann::json{{"points", result.points.size()}, {"revolutions", result.revolutions}, {"file", options.out}}
               << "\n";

@@ -1,6 +1,6 @@
 // Cloud files as `scanbus eval boxes` and `scanbus cloud render` read them: the first byte
 // picks PCD, PLY or XYZ text (by the extension, as read_cloud does), the rest is the file.
-#include "cloud_files.hpp"
+#include "scanbus/cloud_io/cloud_files.hpp"
 #include "fuzz_input.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -8,8 +8,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const char* const kExtensions[] = {"pcd", "ply", "xyz"};
   const scanbus::fuzz::InputFile file(data + 1, size - 1, kExtensions[data[0] % 3]);
   try {
-    scanbus::cli::read_cloud(file.path(), 1.0);
-  } catch (const scanbus::cli::CloudFileError&) {
+    scanbus::cloud_io::read_cloud(file.path(), 1.0);
+  } catch (const scanbus::cloud_io::CloudFileError&) {
   }
   return 0;
 }
