@@ -213,7 +213,7 @@ TEST_F(ScannerPipeline, ReconnectsAfterUnplugAndScansAgain) {
 // 6.4 s when the device appears; without the look-out the next attempt would come about 5 s
 // later.
 TEST_F(ScannerPipeline, TakesUpAReplugAtOnceWhateverTheBackOff) {
-  use_domain(82);
+  use_domain(86);
   auto scanner_io = start_scanner_io("", "  reconnect_min: 0.1\n  reconnect_max: 30\n");
   wait_for_discovery();
   std::this_thread::sleep_for(7s);  // retries at 0.1, 0.3, 0.7, 1.5, 3.1 and 6.3 s; the next at 12.7 s

@@ -55,9 +55,10 @@ const std::vector<TopicInfo>& topic_catalogue() {
       {"rt/cloud/assemble_reply", "scanbus::msg::dds_::AssembleReply_", kReliable, "cloud_assembly",
        "the requesting client", "Cloud of the requested window, with the request id."},
       {"rt/room/measurement", "scanbus::msg::dds_::RoomMeasurement_", kLatched, "room_measurement",
-       "scanbus CLI, recorder", "Walls, corners, wall lengths, floor area and ceiling height."},
+       "scanbus CLI, recorder",
+       "Walls, corners, wall lengths, floor area and ceiling height, stamped with the last scan cloud measured."},
       {"rt/room/walls", "sensor_msgs::msg::dds_::PointCloud2_", kLatched, "room_measurement", "RViz2",
-       "Wall inliers coloured per wall (x y z rgb)."},
+       "Wall inliers coloured per wall (x y z rgb), stamped as the measurement."},
   };
   return catalogue;
 }

@@ -1,5 +1,5 @@
 // Thin DDS node: whole scans in (rt/scanner/scan_cloud); after `scans` of them, the room's
-// RoomMeasurement and its walls' inliers coloured per wall out, stamped with the newest scan
+// RoomMeasurement and its walls' inliers coloured per wall out, stamped with the last scan
 // they were measured from (so a subscriber can tell which scan a room came from). Measuring
 // runs on the service's thread, not on the DDS listener's.
 #include "room_measurement_node.hpp"
