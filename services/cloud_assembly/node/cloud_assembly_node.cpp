@@ -108,14 +108,14 @@ class CloudAssembly : public Service {
     for (const auto& t : message.transforms()) {
       try {
         const Eigen::Isometry3d transform = isometry(t.transform());
-        count(is_static ? assembler_.add_static(t.header().frame_id(), t.child_frame_id(), transform, seconds_now())
-                        : assembler_.add_transform(t.header().frame_id(), t.child_frame_id(),
-                                                   to_seconds(t.header().stamp()), transform, seconds_now()));
+        if (is_static) assembler_.add_static(t.header().frame_id(), t.child_frame_id(), transform);
+        else assembler_.add_transform(t.header().frame_id(), t.child_frame_id(), to_seconds(t.header().stamp()), transform);
       } catch (const transforms::TransformError& e) {
         ++health_.counter("transforms_rejected");
         health_.error(e.what());
       }
     }
+    count(assembler_.assemble_ready(seconds_now()));
   }
 
   void receive(const sensor_msgs::msg::LaserScan& message) {

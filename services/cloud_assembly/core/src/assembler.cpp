@@ -10,26 +10,23 @@ Assembler::Assembler(const AssemblerSettings& settings)
       continuous_(settings.voxel_size, settings.max_voxels),
       window_(settings.window_age, settings.window_points) {}
 
-AssemblyReport Assembler::add_static(const std::string& parent, const std::string& child,
-                                     const Eigen::Isometry3d& transform, double now) {
+void Assembler::add_static(const std::string& parent, const std::string& child, const Eigen::Isometry3d& transform) {
   buffer_.set_static(parent, child, transform);
-  return process_pending(now);
 }
 
-AssemblyReport Assembler::add_transform(const std::string& parent, const std::string& child, double stamp,
-                                        const Eigen::Isometry3d& transform, double now) {
+void Assembler::add_transform(const std::string& parent, const std::string& child, double stamp,
+                              const Eigen::Isometry3d& transform) {
   buffer_.add(parent, child, stamp, transform);
   newest_ = std::max(newest_, stamp);
-  return process_pending(now);
 }
 
 AssemblyReport Assembler::add_scan(const std::string& frame, LaserScanData scan, double now) {
   newest_ = std::max(newest_, scan.stamp);
   pending_.push_back({frame, std::move(scan)});
-  return process_pending(now);
+  return assemble_ready(now);
 }
 
-AssemblyReport Assembler::process_pending(double now) {
+AssemblyReport Assembler::assemble_ready(double now) {
   AssemblyReport report;
   while (!pending_.empty()) {
     const PendingScan& next = pending_.front();

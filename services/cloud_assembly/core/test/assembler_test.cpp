@@ -25,11 +25,12 @@ AssemblerSettings settings() {
 
 TEST(Assembler, AScanWaitsForItsTransformThenJoinsTheCloudAndTheWindow) {
   Assembler assembler(settings());
-  assembler.add_static("base_link", "laser", up(-0.1), 0);
+  assembler.add_static("base_link", "laser", up(-0.1));
   AssemblyReport report = assembler.add_scan("laser", scan_at(10.0), 0);
   EXPECT_EQ(report.assembled, 0u) << "no map -> base_link at 10 s yet";
-  assembler.add_transform("map", "base_link", 9.9, up(2.0), 0);
-  report = assembler.add_transform("map", "base_link", 10.1, up(2.2), 0);
+  assembler.add_transform("map", "base_link", 9.9, up(2.0));
+  assembler.add_transform("map", "base_link", 10.1, up(2.2));
+  report = assembler.assemble_ready(0);
   EXPECT_EQ(report.assembled, 1u);
   EXPECT_TRUE(report.problems.empty());
   const WindowReply window = assembler.window(9.0, 11.0, "");
@@ -42,8 +43,8 @@ TEST(Assembler, AScanWaitsForItsTransformThenJoinsTheCloudAndTheWindow) {
 
 TEST(Assembler, AScanStillWithoutItsTransformAfterTheTimeoutIsDroppedWithTheReason) {
   Assembler assembler(settings());  // transform_timeout 2 s
-  assembler.add_static("map", "odom", up(0), 0);
-  assembler.add_transform("odom", "laser", 0.5, up(1), 0);
+  assembler.add_static("map", "odom", up(0));
+  assembler.add_transform("odom", "laser", 0.5, up(1));
   EXPECT_EQ(assembler.add_scan("laser", scan_at(1.0), 0).assembled, 0u);  // after the last transform: waits
   EXPECT_EQ(assembler.add_scan("laser", scan_at(2.0), 0).dropped, 0u);
   const AssemblyReport report = assembler.add_scan("laser", scan_at(3.5), 0);  // 2.5 s past the first
@@ -62,13 +63,30 @@ TEST(Assembler, FramesNoTransformJoinsAreSaidOnceAfterASecond) {
   ASSERT_EQ(said.problems.size(), 1u);
   EXPECT_NE(said.problems[0].find("no transform has joined 'laser' to 'map'"), std::string::npos) << said.problems[0];
   EXPECT_FALSE(assembler.add_scan("laser", scan_at(1.3), 102.0).frames_missing) << "said once";
-  const AssemblyReport joined = assembler.add_static("map", "laser", up(0), 102.5);
+  assembler.add_static("map", "laser", up(0));
+  const AssemblyReport joined = assembler.assemble_ready(102.5);
   EXPECT_EQ(joined.assembled, 4u) << "every waiting scan, once the frames are joined";
+}
+
+// A message of several transforms (as tf publishers send) is taken whole before the waiting
+// scans are looked at: its newer stamps must not time a scan out that its other transforms
+// complete.
+TEST(Assembler, AMessagesTransformsAreAllInBeforeAnyScanIsTimedOut) {
+  Assembler assembler(settings());  // transform_timeout 2 s
+  assembler.add_static("base_link", "laser", up(0));
+  assembler.add_scan("laser", scan_at(1.0), 0);     // waits: nothing joins map and base_link yet
+  assembler.add_transform("map", "odom", 0.0, up(0));
+  assembler.add_transform("map", "odom", 5.0, up(0));        // 4 s newer than the scan
+  assembler.add_transform("odom", "base_link", 0.0, up(1));  // the message's last two complete the chain
+  assembler.add_transform("odom", "base_link", 5.0, up(1));
+  const AssemblyReport report = assembler.assemble_ready(0);
+  EXPECT_EQ(report.assembled, 1u);
+  EXPECT_EQ(report.dropped, 0u) << (report.problems.empty() ? "" : report.problems[0]);
 }
 
 TEST(Assembler, WindowRequestsThatCannotBeAnsweredSayWhy) {
   Assembler assembler(settings());
-  assembler.add_static("map", "laser", up(1), 0);
+  assembler.add_static("map", "laser", up(1));
   assembler.add_scan("laser", scan_at(5.0), 0);
   EXPECT_EQ(assembler.window(6.0, 5.0, "").status, WindowReply::BadRequest);
   const WindowReply elsewhere = assembler.window(4.0, 6.0, "base_link");

@@ -43,12 +43,16 @@ class Assembler {
  public:
   explicit Assembler(const AssemblerSettings& settings);
 
-  // `now` (s, a monotonic clock) times how long scans wait for missing frames. The transform
-  // calls throw transforms::TransformError for a transform that cannot be used.
-  AssemblyReport add_static(const std::string& parent, const std::string& child, const Eigen::Isometry3d& transform,
-                            double now);
-  AssemblyReport add_transform(const std::string& parent, const std::string& child, double stamp,
-                               const Eigen::Isometry3d& transform, double now);
+  // Transforms one by one; each throws transforms::TransformError for one that cannot be
+  // used. The waiting scans are looked at by assemble_ready(), called once all transforms of
+  // a message are in: a chain that the message's last transform completes is then used
+  // before the message's newer stamps time any scan out.
+  void add_static(const std::string& parent, const std::string& child, const Eigen::Isometry3d& transform);
+  void add_transform(const std::string& parent, const std::string& child, double stamp,
+                     const Eigen::Isometry3d& transform);
+  // `now` (s, a monotonic clock) times how long scans wait for missing frames.
+  AssemblyReport assemble_ready(double now);
+  // Queues the scan and assembles what is ready.
   AssemblyReport add_scan(const std::string& frame, LaserScanData scan, double now);
 
   // The window's scans stamped in [begin, end], in `frame` (the fixed frame when empty) as
@@ -60,7 +64,6 @@ class Assembler {
   const std::string& fixed_frame() const { return settings_.fixed_frame; }
 
  private:
-  AssemblyReport process_pending(double now);
   void say_if_frames_missing(const std::string& frame, const std::string& why, double now, AssemblyReport& report);
 
   struct PendingScan {
