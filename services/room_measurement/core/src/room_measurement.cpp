@@ -189,6 +189,66 @@ ViewLimits view_limits(const std::vector<Eigen::Vector3f>& points, const RoomRes
   return view;
 }
 
+// Each wall's profile along its line and how much of it the scanner sees over, from every valid point.
+void describe_walls(std::vector<WallLine>& walls, const RoomSettings& settings, const std::vector<Eigen::Vector3f>& valid,
+                    const ViewLimits& view) {
+  const PolygonSettings& p = settings.polygon;
+  for (auto& wall : walls) {
+    wall.profile = wall_profile(wall, valid, settings.ransac.distance, 0.5);
+    wall.seen_over = seen_over_share(wall, valid, 0.1, 0.2, view.top_at(wall.offset) - p.top_margin - p.top_band);
+  }
+}
+
+// The vertical planes among `points` that hold min_plane_share of them and pass the wall tests
+// (height, its coverage, fill along the line), merged where RANSAC split one wall, described.
+std::vector<WallLine> wall_candidates(const std::vector<Eigen::Vector3f>& points, const RoomSettings& settings,
+                                      const std::vector<Eigen::Vector3f>& valid, const ViewLimits& view) {
+  RansacSettings vertical = settings.ransac;  // planes holding less of the points are clutter
+  vertical.min_inliers = std::max(vertical.min_inliers, static_cast<size_t>(settings.min_plane_share * points.size()));
+  constexpr double kRunGap = 1.0, kMinRun = 0.25;  // m: the narrowest opening; shorter than the shortest
+                                                   // chimney-breast side, longer than a crossing wall's band
+  std::vector<WallLine> walls;
+  for (Plane& plane : extract_planes(points, true, vertical)) {
+    WallLine wall = fit_wall(std::move(plane.inliers));
+    auto runs = long_runs(wall, kRunGap, kMinRun);
+    if (runs.size() < vertical.min_inliers) continue;
+    if (runs.size() < wall.inliers.size()) wall = fit_wall(std::move(runs));
+    if (wall.z_high - wall.z_low >= settings.min_wall_height && wall.z_coverage >= settings.min_wall_coverage &&
+        wall.z_gap <= settings.max_wall_height_gap && wall.length_coverage >= settings.min_wall_fill)
+      walls.push_back(std::move(wall));
+  }
+  walls = merge_collinear(std::move(walls), 3 * M_PI / 180, settings.ransac.distance / 2, 3 * settings.ransac.distance);
+  describe_walls(walls, settings, valid, view);
+  return walls;
+}
+
+// The points whose direction from the scanner lies in the sector, away from the floor and the
+// ceiling: in a sector, their scan lines run out radially and make vertical planes with the
+// columns they meet.
+std::vector<Eigen::Vector3f> in_sector(const std::vector<Eigen::Vector3f>& points, const Sector& sector,
+                                       const RoomResult& result) {
+  constexpr double kBand = 0.15;  // m off the floor and the ceiling
+  const double low = result.floor_z.value_or(-1e9) + kBand, high = result.ceiling_z.value_or(1e9) - kBand;
+  std::vector<Eigen::Vector3f> inside;
+  for (const auto& p : points) {
+    if (p.z() <= low || p.z() >= high) continue;
+    double angle = std::atan2(p.y(), p.x());
+    while (angle < sector.first) angle += 2 * M_PI;
+    if (angle <= sector.last) inside.push_back(p);
+  }
+  return inside;
+}
+
+// Whether the scanner sees the wall face on enough to be one it looks at across an open sector:
+// rays meeting it within kGrazing of its plane are columns of other surfaces lined up radially.
+bool faces_scanner(const WallLine& wall) {
+  constexpr double kGrazing = 10 * M_PI / 180;
+  std::vector<double> sines;
+  for (const auto& p : wall.inliers) sines.push_back(wall.offset / std::max(1e-6, static_cast<double>(p.head<2>().norm())));
+  std::nth_element(sines.begin(), sines.begin() + static_cast<long>(sines.size() / 2), sines.end());
+  return !sines.empty() && sines[sines.size() / 2] >= std::sin(kGrazing);
+}
+
 // The final fit of a room wall: every valid point on it (points_on_wall), fitted again, twice.
 // RANSAC's inliers are voxel centres cut off at its distance threshold; the histogram filter's
 // points are no better: a point that range noise carried behind the wall lands in a sparse
@@ -302,27 +362,19 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
   }
   result.points_after_voxel = walls_only.size();
 
-  std::vector<WallLine> candidates;
-  RansacSettings vertical = settings.ransac;  // planes holding less of the cloud are clutter
-  vertical.min_inliers = std::max(vertical.min_inliers, static_cast<size_t>(settings.min_plane_share * walls_only.size()));
-  constexpr double kRunGap = 1.0, kMinRun = 0.25;  // m: the narrowest opening; shorter than the shortest
-                                                   // chimney-breast side, longer than a crossing wall's band
-  for (Plane& plane : extract_planes(walls_only, true, vertical)) {
-    WallLine wall = fit_wall(std::move(plane.inliers));
-    auto runs = long_runs(wall, kRunGap, kMinRun);
-    if (runs.size() < vertical.min_inliers) continue;
-    if (runs.size() < wall.inliers.size()) wall = fit_wall(std::move(runs));
-    if (wall.z_high - wall.z_low >= settings.min_wall_height && wall.z_coverage >= settings.min_wall_coverage &&
-        wall.length_coverage >= settings.min_wall_fill)
-      candidates.push_back(std::move(wall));
-  }
-  candidates = merge_collinear(std::move(candidates), 3 * M_PI / 180, settings.ransac.distance / 2,
-                               3 * settings.ransac.distance);
   const ViewLimits view = view_limits(valid, result);
-  for (auto& wall : candidates) {
-    wall.profile = wall_profile(wall, valid, settings.ransac.distance, 0.5);
-    const PolygonSettings& p = settings.polygon;
-    wall.seen_over = seen_over_share(wall, valid, 0.1, 0.2, view.top_at(wall.offset) - p.top_margin - p.top_band);
+  std::vector<WallLine> candidates = wall_candidates(walls_only, settings, valid, view);
+  // A wall with few returns (far, or glass) makes no plane of the whole cloud's share: where no
+  // wall encloses the scanner, the planes are looked for again among that sector's points alone.
+  std::vector<WallLine> sector_walls;
+  for (const Sector& sector : open_sectors(candidates, view, settings.polygon, settings.open_sector_deg))
+    for (WallLine& wall : wall_candidates(in_sector(walls_only, sector, result), settings, valid, view))
+      if (faces_scanner(wall)) sector_walls.push_back(std::move(wall));
+  if (!sector_walls.empty()) {
+    candidates.insert(candidates.end(), sector_walls.begin(), sector_walls.end());
+    candidates = merge_collinear(std::move(candidates), 3 * M_PI / 180, settings.ransac.distance / 2,
+                                 3 * settings.ransac.distance);
+    describe_walls(candidates, settings, valid, view);
   }
   result.candidates = candidates;
   if (candidates.size() < 3) {
@@ -414,6 +466,8 @@ RoomSettings room_settings_from_config(const Config& section) {
   s.min_plane_share = section.number("min_plane_share", s.min_plane_share, 0, 1);
   s.min_wall_height = section.number("min_wall_height", s.min_wall_height, 0, 100);
   s.min_wall_coverage = section.number("min_wall_coverage", s.min_wall_coverage, 0, 1);
+  s.max_wall_height_gap = section.number("max_wall_height_gap", s.max_wall_height_gap, 0, 100);
+  s.open_sector_deg = section.number("open_sector", s.open_sector_deg, 0.5, 360);
   s.min_wall_fill = section.number("min_wall_fill", s.min_wall_fill, 0, 1);
   const Config polygon = section.section("polygon");
   s.polygon.min_wall_angle_deg = polygon.number("min_wall_angle", s.polygon.min_wall_angle_deg, 1, 89);

@@ -48,6 +48,17 @@ double coverage(const std::vector<double>& values, double low, double high, doub
   return static_cast<double>(std::count(occupied.begin(), occupied.end(), true)) / slots;
 }
 
+// The longest run of empty `slot`-wide slots between low and high, in the values' unit.
+double widest_gap(const std::vector<double>& values, double low, double high, double slot) {
+  const int slots = std::max(1, static_cast<int>(std::ceil((high - low) / slot)));
+  std::vector<bool> occupied(static_cast<size_t>(slots), false);
+  for (double v : values)
+    if (v >= low && v <= high) occupied[std::min(slots - 1, static_cast<int>((v - low) / slot))] = true;
+  int widest = 0, run = 0;
+  for (bool filled : occupied) widest = std::max(widest, run = filled ? 0 : run + 1);
+  return widest * slot;
+}
+
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 // A wall where the turn around the scanner sees it: the angles of its first and last rays.
@@ -249,6 +260,7 @@ WallLine fit_wall(std::vector<Eigen::Vector3f> inliers) {
   wall.z_low = percentile(heights, 0.02);
   wall.z_high = percentile(heights, 0.98);
   wall.z_coverage = coverage(heights, wall.z_low, wall.z_high, 0.1);
+  wall.z_gap = widest_gap(heights, wall.z_low, wall.z_high, 0.1);
   wall.length_coverage = coverage(along, wall.start, wall.end, 0.1);
   wall.inliers = std::move(inliers);
   return wall;
@@ -350,11 +362,18 @@ double seen_over_share(const WallLine& wall, const std::vector<Eigen::Vector3f>&
   return static_cast<double>(seen) / static_cast<double>(over.size());
 }
 
-std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimits& view,
-                                    const PolygonSettings& settings, std::string& why) {
-  // The nearest enclosing wall in each direction, a quarter of a degree at a time. A wall
-  // that does not reach the top of the view is furniture when a wall stands behind it.
-  constexpr int kSteps = 1440;
+namespace {
+
+constexpr int kSteps = 1440;  // rays around the scanner: a quarter of a degree each
+
+// Runs of one wall (or none, -1) around the turn; the run over angle 0 is one run.
+struct Run {
+  int wall, first, length;  // steps
+};
+
+// The nearest enclosing wall in each direction, a quarter of a degree at a time, in runs. A
+// wall that does not reach the top of the view is furniture when a wall stands behind it.
+std::vector<Run> enclosing_runs(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings) {
   constexpr double kFloorBand = 0.15;  // m over the lowest point near a wall's line
   std::vector<int> seen(kSteps, -1);
   struct Hit {
@@ -390,10 +409,6 @@ std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimi
       }
     }
   }
-  // Runs of one wall around the turn; short runs are clutter.
-  struct Run {
-    int wall, first, length;  // steps
-  };
   std::vector<Run> runs;
   for (int step = 0; step < kSteps; ++step) {
     if (!runs.empty() && runs.back().wall == seen[step]) {
@@ -407,6 +422,25 @@ std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimi
     runs.front().length += runs.back().length;
     runs.pop_back();
   }
+  return runs;
+}
+
+}  // namespace
+
+std::vector<Sector> open_sectors(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
+                                 double min_width_deg) {
+  const int min_steps = static_cast<int>(min_width_deg / 360.0 * kSteps);
+  std::vector<Sector> sectors;
+  for (const Run& run : enclosing_runs(walls, view, settings))
+    if (run.wall < 0 && run.length > min_steps)
+      sectors.push_back({2 * M_PI * run.first / kSteps, 2 * M_PI * (run.first + run.length) / kSteps});
+  return sectors;
+}
+
+std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimits& view,
+                                    const PolygonSettings& settings, std::string& why) {
+  // Short runs are clutter.
+  const std::vector<Run> runs = enclosing_runs(walls, view, settings);
   const int min_steps = static_cast<int>(settings.min_run_deg / 360.0 * kSteps);
   const int max_gap_steps = static_cast<int>(settings.max_gap_deg / 360.0 * kSteps);
   const double step_angle = 2 * M_PI / kSteps;

@@ -308,6 +308,42 @@ TEST(SeenOver, AWardrobeUnderTheCeilingIsSeenOverAChimneyBreastIsNot) {
   }
 }
 
+// A long room whose far wall is glass: a column of returns every 0.25 m, 1.5 % of the cloud,
+// too few for a plane of the whole cloud's share. No wall encloses the scanner across its
+// 22 degrees, so the planes are looked for again among that sector's points alone.
+TEST(RoomMeasurement, AFarWallWithFewReturnsIsFoundInItsOpenSector) {
+  std::mt19937 random(8);
+  std::vector<Eigen::Vector3f> points;
+  add_wall(points, {-2, -1.5f}, {9, -1.5f}, random);
+  add_wall(points, {9, 2}, {-2, 2}, random);
+  add_wall(points, {-2, 2}, {-2, -1.5f}, random);
+  for (float y = -1.45f; y < 2; y += 0.25f)
+    for (float z = -1.2f; z <= 1.3f; z += 0.1f) points.emplace_back(9.0f, y, z);
+  RoomSettings settings;
+  const auto found = measure_room(points, settings);
+  ASSERT_EQ(found.status, RoomStatus::Ok) << found.message;
+  EXPECT_EQ(found.walls.size(), 4u);
+  EXPECT_NEAR(found.area, 11 * 3.5, 0.1);
+  settings.open_sector_deg = 360;  // no second look
+  EXPECT_EQ(measure_room(points, settings).status, RoomStatus::WallsDoNotClose);
+}
+
+// A ceiling beam across the room over a row of cupboards lines up in one vertical plane with
+// a band of empty height between them: two surfaces, not a wall, or the room ends at the beam.
+TEST(RoomMeasurement, ABeamOverCupboardsIsNoWall) {
+  std::mt19937 random(9);
+  auto points = box_room(-2, -1.5f, 3, 2, random);
+  add_wall(points, {1, -1.5f}, {1, 2}, random, 0.01f, 1.0f, 1.3f);   // the beam, 0.3 m deep
+  add_wall(points, {1, -1.5f}, {1, 2}, random, 0.01f, -1.2f, 0.0f);  // the cupboards' fronts, 1.2 m tall
+  RoomSettings settings;
+  const auto result = measure_room(points, settings);
+  ASSERT_EQ(result.status, RoomStatus::Ok) << result.message;
+  EXPECT_NEAR(result.area, 17.5, 0.05);
+  settings.max_wall_height_gap = 100;
+  const auto fooled = measure_room(points, settings);
+  EXPECT_FALSE(fooled.status == RoomStatus::Ok && std::abs(fooled.area - 17.5) < 0.05) << fooled.message;
+}
+
 TEST(RoomMeasurement, OpenSideIsNotARoom) {
   std::mt19937 random(3);
   std::vector<Eigen::Vector3f> points;

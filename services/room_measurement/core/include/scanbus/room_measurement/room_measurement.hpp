@@ -27,9 +27,17 @@ struct RoomSettings {
   double min_wall_height = 1.2;    // m of height a plane's inliers must span to be a wall
   double min_wall_coverage = 0.5;  // and the share of that height they must fill (floor and ceiling
                                    // points left in one vertical slice span it but fill only its ends)
+  double max_wall_height_gap = 0.8;  // m of height with no inlier: a ceiling beam lined up with
+                                     // furniture below it is two surfaces, not a wall (a wall is seen
+                                     // at every height somewhere along it)
   double min_wall_fill = 0.3;      // and of their length: RANSAC also fits planes through scattered
                                    // clutter that happens to line up (walls hidden in part by tall
                                    // furniture keep less than half, so not more)
+  double open_sector_deg = 10;     // degrees: a wider sector where no wall encloses the scanner is searched
+                                   // again among its own points (a far or glass wall's few returns make no
+                                   // plane of min_plane_share of the whole cloud); narrower ones hold too
+                                   // few points to tell a wall from clutter (4 let in clutter on the
+                                   // development rooms, 20 found fewer walls: docs/room_evaluation.md)
   PolygonSettings polygon;
   AdjustmentSettings adjustment;
   double opening_min_width = 0.3;  // m: narrower gaps with returns beyond are not doors or windows

@@ -33,6 +33,7 @@ struct WallLine {
   double z_low = 0, z_high = 0;
   double z_coverage = 0;      // share of 10 cm height slices between z_low and z_high holding inliers
   double length_coverage = 0; // share of 10 cm slots between start and end holding inliers
+  double z_gap = 0;           // m: the widest band of heights between z_low and z_high with no inlier
   std::vector<Eigen::Vector3f> inliers;
   WallProfile profile;
   bool inferred = false;      // not seen: placed between two parallel walls the scanner saw (infer_hidden_wall)
@@ -135,6 +136,18 @@ struct Opening {
   double depth = 0;             // m: median distance past the wall's line of the returns seen through it
                                 // at the wall's middle heights (0: none there, e.g. a window onto sky)
 };
+
+// A sector of the turn around the scanner where no wall is seen: from `first` to `last`, rad,
+// counter-clockwise (first may be negative where it spans angle 0).
+struct Sector {
+  double first = 0, last = 0;
+};
+
+// The sectors wider than `min_width_deg` where no wall encloses the scanner (as room_polygon
+// sees the walls): an open side, or a wall whose few returns (far, glass) made no plane of the
+// whole cloud's size.
+std::vector<Sector> open_sectors(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
+                                 double min_width_deg);
 
 // The room's walls in order: turning once around the scanner (the origin), the room's wall in
 // each direction is the nearest wall the ray meets where the wall has points (the wall above a
