@@ -34,7 +34,8 @@ namespace {
 // on a loaded machine poses went ahead without their IMU or GPS).
 void write_configs(const std::string& dir, const sensor_replay::MavLog& log, const std::string& log_path, double rate) {
   std::string lossless = "qos:\n";
-  for (const char* topic : {"rt/scan", "rt/imu", "rt/fix", "rt/pressure", "rt/scan_match", "rt/pose", "rt/tf"})
+  for (const char* topic : {topics::kScan.name, topics::kImu.name, topics::kFix.name, topics::kPressure.name,
+                            topics::kScanMatch.name, topics::kPose.name, topics::kTf.name})
     lossless += std::string("  ") + topic + ": {reliability: reliable, depth: 1000}\n";
   const auto matcher = ground_evaluation::mav_matcher_settings();
   std::ofstream(dir + "/scan_matcher.yaml") << lossless << "scan_matcher:\n  matcher:\n    opening: "
@@ -72,14 +73,14 @@ MavFlightResult run_mav_flight(const MavFlightOptions& options) {
   std::mutex mutex;
   std::vector<std::pair<double, double>> heights;  // stamp, fused height
   Reader<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType> poses(
-      participant, "rt/pose", QosSettings{true, false, false, 1000}, [&](const auto& pose, const auto&) {
+      participant, topics::kPose, QosSettings{true, false, false, 1000}, [&](const auto& pose, const auto&) {
         std::lock_guard<std::mutex> lock(mutex);
         heights.emplace_back(to_seconds(pose.header().stamp()), pose.pose().pose().position().z());
       });
   // cloud_assembly can lag behind the poses under load: the cloud is asked for once it has
   // handled every scan, or a window asked for early misses the flight's last scans.
   std::atomic<uint64_t> scans_handled{0};
-  Reader<scanbus::msg::HealthPubSubType> health(participant, "rt/scanbus/health", [&](const auto& sample, const auto&) {
+  Reader<scanbus::msg::HealthPubSubType> health(participant, topics::kHealth, [&](const auto& sample, const auto&) {
     if (sample.service() != "cloud_assembly") return;
     uint64_t handled = 0;
     for (const auto& counter : sample.counters())

@@ -43,20 +43,20 @@ RoomScanResult run_room_scan(const RoomScanOptions& options) {
   int scans = 0;
   const unsigned total_revolutions = kRevolutionsPerScan * static_cast<unsigned>(options.scans);
   Reader<sensor_msgs::msg::PointCloud2PubSubType> revolution_reader(
-      participant, "rt/scanner/cloud", QosSettings{true, false, false, 50}, [&](const auto&, const auto&) {
+      participant, topics::kScannerCloud, QosSettings{true, false, false, 50}, [&](const auto&, const auto&) {
         std::lock_guard<std::mutex> lock(mutex);
         ++result.revolutions;
         if (options.progress) std::printf("\rscanning: revolution %u of %u", result.revolutions, total_revolutions), std::fflush(stdout);
       });
   Reader<sensor_msgs::msg::PointCloud2PubSubType> scan_reader(
-      participant, "rt/scanner/scan_cloud", [&](const auto& cloud, const auto&) {
+      participant, topics::kScannerScanCloud, [&](const auto& cloud, const auto&) {
         std::lock_guard<std::mutex> lock(mutex);
         const auto points = from_point_cloud2(cloud);
         result.points.insert(result.points.end(), points.begin(), points.end());
         ++scans;
       });
   Reader<scanbus::msg::RoomMeasurementPubSubType> room_reader(
-      participant, "rt/room/measurement", [&](const auto& room, const auto&) {
+      participant, topics::kRoomMeasurement, [&](const auto& room, const auto&) {
         std::lock_guard<std::mutex> lock(mutex);
         result.room = room;
       });

@@ -77,17 +77,17 @@ class CloudAssembly : public Service {
         health_(context.health),
         settings_(read_settings(context.config.section("cloud_assembly"))),
         assembler_(settings_.assembler),
-        assembled_(context.participant, "rt/cloud/assembled"),
-        elevation_(context.participant, "rt/cloud/elevation"),
-        replies_(context.participant, "rt/cloud/assemble_reply") {
+        assembled_(context.participant, topics::kCloudAssembled),
+        elevation_(context.participant, topics::kCloudElevation),
+        replies_(context.participant, topics::kAssembleReply) {
     tf_static_ = std::make_unique<Reader<tf2_msgs::msg::TFMessagePubSubType>>(
-        context.participant, "rt/tf_static", [this](const auto& m, const auto&) { receive(m, true); });
+        context.participant, topics::kTfStatic, [this](const auto& m, const auto&) { receive(m, true); });
     tf_ = std::make_unique<Reader<tf2_msgs::msg::TFMessagePubSubType>>(
-        context.participant, "rt/tf", [this](const auto& m, const auto&) { receive(m, false); });
+        context.participant, topics::kTf, [this](const auto& m, const auto&) { receive(m, false); });
     scans_ = std::make_unique<Reader<sensor_msgs::msg::LaserScanPubSubType>>(
-        context.participant, "rt/scan", [this](const auto& m, const auto&) { receive(m); });
+        context.participant, topics::kScan, [this](const auto& m, const auto&) { receive(m); });
     requests_ = std::make_unique<Reader<scanbus::msg::AssembleRequestPubSubType>>(
-        context.participant, "rt/cloud/assemble_request", [this](const auto& m, const auto&) { receive(m); });
+        context.participant, topics::kAssembleRequest, [this](const auto& m, const auto&) { receive(m); });
   }
 
   int run() override {

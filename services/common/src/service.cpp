@@ -53,7 +53,7 @@ bool StopSignal::wait_for(std::chrono::milliseconds timeout) {
 
 HealthReporter::HealthReporter(Participant& participant, std::string service, std::chrono::milliseconds period,
                                std::shared_ptr<spdlog::logger> log)
-    : watched_{&participant}, log_(std::move(log)), writer_(participant, "rt/scanbus/health"),
+    : watched_{&participant}, log_(std::move(log)), writer_(participant, topics::kHealth),
       service_(std::move(service)), period_(period),
       state_(scanbus::msg::Health_Constants::STARTING) {
   thread_ = std::thread([this] { loop(); });

@@ -1,9 +1,12 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <set>
 #include <sstream>
+#include <type_traits>
 
 #include "scanbus/topics.hpp"
+#include "scanbus/typed_topics.hpp"
 
 using namespace scanbus;
 
@@ -55,4 +58,19 @@ TEST(Topics, DocumentationListsEveryTopic) {
                             topic.publishers + " | " + topic.subscribers + " |";
     EXPECT_NE(text.str().find(row), std::string::npos) << "docs/topics.md lacks the row starting: " << row;
   }
+}
+
+TEST(TypedTopics, MatchTheCatalogue) {
+  size_t count = 0;
+  std::set<std::string> names;
+  scanbus::topics::for_each_typed_topic([&](const auto& topic) {
+    using Type = typename std::decay_t<decltype(topic)>::Type;
+    const scanbus::TopicInfo* info = scanbus::find_topic(topic.name);
+    ASSERT_NE(info, nullptr) << topic.name << " is not in the catalogue";
+    EXPECT_EQ(info->type, Type().getName()) << topic.name;
+    names.insert(topic.name);
+    ++count;
+  });
+  EXPECT_EQ(names.size(), count) << "a topic named twice";
+  EXPECT_EQ(count, scanbus::topic_catalogue().size()) << "a catalogue topic without its typed descriptor";
 }

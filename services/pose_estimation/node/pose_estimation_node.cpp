@@ -47,23 +47,23 @@ class PoseEstimation : public Service {
         frames_(read_frames(context.config.section("pose_estimation"))),
         input_ended_after_(context.config.section("pose_estimation").number("input_ended_after", 5.0, 0.05, 3600.0)),
         estimator_(settings_),
-        poses_(context.participant, "rt/pose"),
-        tf_(context.participant, "rt/tf"),
-        tf_static_(context.participant, "rt/tf_static") {
+        poses_(context.participant, topics::kPose),
+        tf_(context.participant, topics::kTf),
+        tf_static_(context.participant, topics::kTfStatic) {
     mount_.transforms().push_back(
         transform_message(to_seconds(now_stamp()), frames_.body, frames_.laser, settings_.laser_in_body));
     tf_static_.write(mount_);  // transient local: late subscribers get it too
     imu_ = std::make_unique<Reader<sensor_msgs::msg::ImuPubSubType>>(
-        context.participant, "rt/imu", [this](const auto& m, const auto&) { receive(m); });
+        context.participant, topics::kImu, [this](const auto& m, const auto&) { receive(m); });
     fixes_ = std::make_unique<Reader<sensor_msgs::msg::NavSatFixPubSubType>>(
-        context.participant, "rt/fix", [this](const auto& m, const auto&) { receive(m); });
+        context.participant, topics::kFix, [this](const auto& m, const auto&) { receive(m); });
     pressures_ = std::make_unique<Reader<sensor_msgs::msg::FluidPressurePubSubType>>(
-        context.participant, "rt/pressure", [this](const auto& m, const auto&) { receive(m); });
+        context.participant, topics::kPressure, [this](const auto& m, const auto&) { receive(m); });
     matches_ = std::make_unique<Reader<scanbus::msg::ScanMatchPubSubType>>(
-        context.participant, "rt/scan_match", [this](const auto& m, const auto&) { receive(m); });
+        context.participant, topics::kScanMatch, [this](const auto& m, const auto&) { receive(m); });
     if (settings_.ground_clearance)
       scans_ = std::make_unique<Reader<sensor_msgs::msg::LaserScanPubSubType>>(
-          context.participant, "rt/scan", [this](const auto& m, const auto&) { receive(m); });
+          context.participant, topics::kScan, [this](const auto& m, const auto&) { receive(m); });
   }
 
   // Every 100 ms: the mount to readers that joined since, and, when no sample has come for

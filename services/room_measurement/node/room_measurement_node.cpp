@@ -21,9 +21,9 @@ class RoomMeasurementService : public Service {
   explicit RoomMeasurementService(ServiceContext& context)
       : log_(context.log),
         health_(context.health),
-        measurement_(context.participant, "rt/room/measurement"),
-        walls_(context.participant, "rt/room/walls"),
-        scans_(context.participant, "rt/scanner/scan_cloud", [this](const auto& cloud, const auto&) { receive(cloud); }) {
+        measurement_(context.participant, topics::kRoomMeasurement),
+        walls_(context.participant, topics::kRoomWalls),
+        scans_(context.participant, topics::kScannerScanCloud, [this](const auto& cloud, const auto&) { receive(cloud); }) {
     const RoomServiceSettings settings = room_service_settings(context.config.section("room_measurement"));
     scans_needed_ = settings.scans;
     frame_id_ = settings.frame_id;

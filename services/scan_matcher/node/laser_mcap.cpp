@@ -8,6 +8,7 @@
 #include "scanbus/recorder/mcap_reader.hpp"
 #include "scanbus/recorder/mcap_writer.hpp"
 #include "scanbus/recorder/ros2msg.hpp"
+#include "scanbus/typed_topics.hpp"
 #include "topic_channels.hpp"
 
 namespace scanbus::scan_matcher {
@@ -15,7 +16,7 @@ namespace scanbus::scan_matcher {
 void write_laser_mcap(const std::string& path, const std::vector<LaserRecord>& records, const std::string& frame) {
   using namespace recorder;
   McapWriter writer(path, {});
-  const uint16_t channel = TopicChannels(writer).add("rt/scan");
+  const uint16_t channel = TopicChannels(writer).add(topics::kScan.name);
   uint32_t sequence = 0;
   for (const auto& record : records) {
     sensor_msgs::msg::LaserScan scan;
@@ -38,7 +39,7 @@ std::vector<LaserRecord> read_laser_mcap(const std::string& path) {
   std::vector<LaserRecord> records;
   try {
     McapReader(path).read_messages([&](const McapMessage& m, const McapChannel& channel) {
-      if (dds_topic_of_ros_topic(channel.topic) != "rt/scan") return;
+      if (dds_topic_of_ros_topic(channel.topic) != topics::kScan.name) return;
       const auto scan = from_cdr<sensor_msgs::msg::LaserScanPubSubType>(m.data, m.size);
       LaserRecord record;
       record.stamp = to_seconds(scan.header().stamp());

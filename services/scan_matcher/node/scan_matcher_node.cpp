@@ -40,7 +40,7 @@ class ScanMatcherService : public Service {
  public:
   explicit ScanMatcherService(ServiceContext& context)
       : log_(context.log), health_(context.health), matcher_(settings_of(context.config.section("scan_matcher"))),
-        matches_(context.participant, "rt/scan_match") {
+        matches_(context.participant, topics::kScanMatch) {
     const Config config = context.config.section("scan_matcher");
     if (config.has("laser_axis_in_imu")) {
       const auto axis = config.numbers("laser_axis_in_imu", 3);
@@ -50,10 +50,10 @@ class ScanMatcherService : public Service {
     }
     if (config.flag("use_imu", false)) {
       imu_ = std::make_unique<Reader<sensor_msgs::msg::ImuPubSubType>>(
-          context.participant, "rt/imu", [this](const auto& imu, const auto&) { receive(imu); });
+          context.participant, topics::kImu, [this](const auto& imu, const auto&) { receive(imu); });
     }
     scans_ = std::make_unique<Reader<sensor_msgs::msg::LaserScanPubSubType>>(
-        context.participant, "rt/scan", [this](const auto& scan, const auto&) { receive(scan); });
+        context.participant, topics::kScan, [this](const auto& scan, const auto&) { receive(scan); });
   }
 
   int run() override {

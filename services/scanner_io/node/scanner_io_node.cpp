@@ -68,11 +68,11 @@ class ScannerIo : public Service {
         port_(settings_.port, settings_.baud),
         session_(settings_.session),
         watchdog_(settings_.stall_timeout, settings_.reconnect_min, settings_.reconnect_max),
-        spherical_(context.participant, "rt/scanner/spherical"),
-        revolution_cloud_(context.participant, "rt/scanner/cloud"),
-        scan_cloud_(context.participant, "rt/scanner/scan_cloud"),
-        status_(context.participant, "rt/scanner/status"),
-        commands_(context.participant, "rt/scanner/command", [this](const auto& command, const auto&) {
+        spherical_(context.participant, topics::kScannerSpherical),
+        revolution_cloud_(context.participant, topics::kScannerCloud),
+        scan_cloud_(context.participant, topics::kScannerScanCloud),
+        status_(context.participant, topics::kScannerStatus),
+        commands_(context.participant, topics::kScannerCommand, [this](const auto& command, const auto&) {
           std::lock_guard<std::mutex> lock(mutex_);
           pending_commands_.push_back(command);
         }) {}

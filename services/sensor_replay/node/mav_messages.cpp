@@ -10,6 +10,7 @@
 #include "NavSatFixPubSubTypes.h"
 #include "PoseStampedPubSubTypes.h"
 #include "cdr.hpp"
+#include "scanbus/typed_topics.hpp"
 #include "scanbus/clock.hpp"
 #include "scanbus/recorder/mcap_reader.hpp"
 #include "scanbus/recorder/mcap_writer.hpp"
@@ -111,11 +112,11 @@ void write_mav_mcap(const std::string& path, const MavLog& log, const MavFrames&
   TopicChannels topics(writer);
   std::map<RecordKind, uint16_t> channels;
   auto channel = [&](RecordKind kind, const std::string& topic) { channels[kind] = topics.add(topic); };
-  channel(RecordKind::Laser, "rt/scan");
-  channel(RecordKind::Imu, "rt/imu");
-  channel(RecordKind::Gps, "rt/fix");
-  channel(RecordKind::Baro, "rt/pressure");
-  channel(RecordKind::Truth, "rt/truth/pose");
+  channel(RecordKind::Laser, topics::kScan.name);
+  channel(RecordKind::Imu, topics::kImu.name);
+  channel(RecordKind::Gps, topics::kFix.name);
+  channel(RecordKind::Baro, topics::kPressure.name);
+  channel(RecordKind::Truth, topics::kTruthPose.name);
   std::map<RecordKind, uint32_t> sequence;
   for (const RecordRef& record : records_in_time_order(log)) {
     std::vector<uint8_t> bytes;
@@ -149,21 +150,21 @@ MavLog read_mav_mcap(const std::string& path) {
     McapReader reader(path);
     reader.read_messages([&](const McapMessage& m, const McapChannel& channel) {
       const std::string topic = dds_topic_of_ros_topic(channel.topic);
-      if (topic == "rt/scan") {
+      if (topic == topics::kScan.name) {
         const auto scan = from_cdr<sensor_msgs::msg::LaserScanPubSubType>(m.data, m.size);
         log.lasers.push_back({to_seconds(scan.header().stamp()), scan.angle_min(), scan.angle_increment(),
                               scan.range_min(), scan.range_max(), scan.ranges()});
-      } else if (topic == "rt/imu") {
+      } else if (topic == topics::kImu.name) {
         const auto imu = from_cdr<sensor_msgs::msg::ImuPubSubType>(m.data, m.size);
         log.imus.push_back({to_seconds(imu.header().stamp()), quaternion(imu.orientation())});
-      } else if (topic == "rt/fix") {
+      } else if (topic == topics::kFix.name) {
         const auto fix = from_cdr<sensor_msgs::msg::NavSatFixPubSubType>(m.data, m.size);
         log.fixes.push_back({to_seconds(fix.header().stamp()), fix.latitude(), fix.longitude(), fix.altitude(),
                              std::sqrt(fix.position_covariance()[0]), std::sqrt(fix.position_covariance()[8])});
-      } else if (topic == "rt/pressure") {
+      } else if (topic == topics::kPressure.name) {
         const auto pressure = from_cdr<sensor_msgs::msg::FluidPressurePubSubType>(m.data, m.size);
         log.baros.push_back({to_seconds(pressure.header().stamp()), pressure.fluid_pressure()});
-      } else if (topic == "rt/truth/pose") {
+      } else if (topic == topics::kTruthPose.name) {
         const auto pose = from_cdr<geometry_msgs::msg::PoseStampedPubSubType>(m.data, m.size);
         const auto& p = pose.pose().position();
         log.truths.push_back({to_seconds(pose.header().stamp()), {p.x(), p.y(), p.z()}, quaternion(pose.pose().orientation())});

@@ -47,11 +47,11 @@ class SensorReplay : public Service {
       : log_(context.log),
         health_(context.health),
         settings_(read_settings(context.config.section("sensor_replay"))),
-        scans_(context.participant, "rt/scan"),
-        imus_(context.participant, "rt/imu"),
-        fixes_(context.participant, "rt/fix"),
-        pressures_(context.participant, "rt/pressure"),
-        truths_(context.participant, "rt/truth/pose") {}
+        scans_(context.participant, topics::kScan),
+        imus_(context.participant, topics::kImu),
+        fixes_(context.participant, topics::kFix),
+        pressures_(context.participant, topics::kPressure),
+        truths_(context.participant, topics::kTruthPose) {}
 
   int run() override {
     try {

@@ -23,6 +23,7 @@
 
 #include "scanbus/config.hpp"
 #include "scanbus/topics.hpp"
+#include "scanbus/typed_topics.hpp"
 
 namespace scanbus {
 
@@ -113,6 +114,10 @@ class Writer {
  public:
   using Sample = typename PubSubType::type;
 
+  // From the catalogue (typed_topics.hpp): only a topic of this type compiles.
+  Writer(Participant& participant, const Topic<PubSubType>& topic) : Writer(participant, std::string(topic.name)) {}
+  Writer(Participant& participant, const Topic<PubSubType>& topic, const QosSettings& qos)
+      : Writer(participant, std::string(topic.name), qos) {}
   Writer(Participant& participant, const std::string& topic)
       : Writer(participant, topic, participant.qos(topic)) {}
   Writer(Participant& participant, const std::string& topic, const QosSettings& qos)
@@ -170,6 +175,11 @@ class Reader : private eprosima::fastdds::dds::DataReaderListener {
   using Sample = typename PubSubType::type;
   using Handler = std::function<void(const Sample&, const eprosima::fastdds::dds::SampleInfo&)>;
 
+  // From the catalogue (typed_topics.hpp): only a topic of this type compiles.
+  Reader(Participant& participant, const Topic<PubSubType>& topic, Handler handler)
+      : Reader(participant, std::string(topic.name), std::move(handler)) {}
+  Reader(Participant& participant, const Topic<PubSubType>& topic, const QosSettings& qos, Handler handler)
+      : Reader(participant, std::string(topic.name), qos, std::move(handler)) {}
   Reader(Participant& participant, const std::string& topic, Handler handler)
       : Reader(participant, topic, participant.qos(topic), std::move(handler)) {}
   Reader(Participant& participant, const std::string& topic, const QosSettings& qos, Handler handler)
