@@ -82,7 +82,12 @@ for _ in $(seq 60); do
   [ -z "$unhealthy" ] && break
   sleep 2
 done
-[ -z "$unhealthy" ] || { echo "FAIL: not healthy: $unhealthy"; exit 1; }
+if [ -n "$unhealthy" ]; then  # what the services say of themselves, and their last lines
+  "$scanbus" health --once --timeout 3 || true
+  "${compose[@]}" logs --tail 15
+  echo "FAIL: not healthy: $unhealthy"
+  exit 1
+fi
 echo "every container healthy: $(for id in $("${compose[@]}" ps -q); do docker inspect -f '{{.Name}}' "$id"; done | tr '\n' ' ')"
 
 # The recorder closes its file on SIGTERM; the measurement is in it.

@@ -115,7 +115,7 @@ class CloudAssembly : public Service {
         health_.error(e.what());
       }
     }
-    count(assembler_.assemble_ready(seconds_now()));
+    count(assembler_.assemble_ready(steady_seconds()));
   }
 
   void receive(const sensor_msgs::msg::LaserScan& message) {
@@ -127,7 +127,7 @@ class CloudAssembly : public Service {
       return;
     }
     std::lock_guard<std::mutex> lock(mutex_);
-    count(assembler_.add_scan(message.header().frame_id(), std::move(scan), seconds_now()));
+    count(assembler_.add_scan(message.header().frame_id(), std::move(scan), steady_seconds()));
   }
 
   void count(const AssemblyReport& report) {
@@ -135,10 +135,6 @@ class CloudAssembly : public Service {
     health_.counter("scans_dropped") += report.dropped;
     health_.counter("frames_missing") += report.frames_missing;
     for (const auto& problem : report.problems) health_.error(problem);
-  }
-
-  static double seconds_now() {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
   }
 
   void receive(const scanbus::msg::AssembleRequest& request) {

@@ -90,7 +90,7 @@ class ScannerIo : public Service {
       retry_delay = settings_.reconnect_min;
       for (const auto& line : lines) handle(parse_line(line, settings_.session.dialect));
       send_pending_commands();
-      const double now = seconds_now();
+      const double now = steady_seconds();
       if (!lines.empty()) watchdog_.line(now);
       watchdog_.expect(session_.expecting_lines(), now);
       if (watchdog_.stalled(now)) {
@@ -138,10 +138,6 @@ class ScannerIo : public Service {
       if (StopSignal::wait_for(std::chrono::milliseconds(static_cast<int>(1000 * std::min(step, delay - waited))))) return;
       if (missing && std::filesystem::exists(settings_.port, error)) return;
     }
-  }
-
-  static double seconds_now() {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
   }
 
   // No line while lines were due (DeviceWatchdog): the session is closed and, after the

@@ -28,4 +28,9 @@ inline builtin_interfaces::msg::Time now_stamp() {
   return stamp;
 }
 
+// Seconds on the monotonic clock: for timeouts and back-offs, which a wall-clock step must not move.
+inline double steady_seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
 }  // namespace scanbus
