@@ -39,23 +39,25 @@ double sampling_step(const std::vector<double>& sorted, size_t last, size_t max_
   return gaps[gaps.size() / 2];
 }
 
-// Share of `slot`-wide slots between low and high that hold at least one value.
-double coverage(const std::vector<double>& values, double low, double high, double slot) {
+// Which `slot`-wide slots between low and high hold at least one value.
+std::vector<bool> occupied_slots(const std::vector<double>& values, double low, double high, double slot) {
   const int slots = std::max(1, static_cast<int>(std::ceil((high - low) / slot)));
   std::vector<bool> occupied(static_cast<size_t>(slots), false);
   for (double v : values)
     if (v >= low && v <= high) occupied[std::min(slots - 1, static_cast<int>((v - low) / slot))] = true;
-  return static_cast<double>(std::count(occupied.begin(), occupied.end(), true)) / slots;
+  return occupied;
 }
 
-// The longest run of empty `slot`-wide slots between low and high, in the values' unit.
+// Share of those slots that hold a value.
+double coverage(const std::vector<double>& values, double low, double high, double slot) {
+  const std::vector<bool> occupied = occupied_slots(values, low, high, slot);
+  return static_cast<double>(std::count(occupied.begin(), occupied.end(), true)) / static_cast<double>(occupied.size());
+}
+
+// The longest run of empty slots, in the values' unit.
 double widest_gap(const std::vector<double>& values, double low, double high, double slot) {
-  const int slots = std::max(1, static_cast<int>(std::ceil((high - low) / slot)));
-  std::vector<bool> occupied(static_cast<size_t>(slots), false);
-  for (double v : values)
-    if (v >= low && v <= high) occupied[std::min(slots - 1, static_cast<int>((v - low) / slot))] = true;
   int widest = 0, run = 0;
-  for (bool filled : occupied) widest = std::max(widest, run = filled ? 0 : run + 1);
+  for (bool filled : occupied_slots(values, low, high, slot)) widest = std::max(widest, run = filled ? 0 : run + 1);
   return widest * slot;
 }
 
