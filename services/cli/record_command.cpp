@@ -107,11 +107,12 @@ int run_replay(ReplayOptions options) {
   if (options.json) {
     std::cout << nlohmann::json{{"file", options.settings.file},   {"published", result.published},
                                 {"topics", result.published_by_topic}, {"damage", result.damage},
-                                {"stamps_skipped", result.stamps_skipped}, {"pauses", result.pauses}}
+                                {"stamps_skipped", result.stamps_skipped}, {"pauses", result.pauses},
+                                {"span_s", result.span}}
                      .dump()
               << "\n";
   } else {
-    std::cout << options.settings.file << ": published " << result.published << " messages\n";
+    std::cout << options.settings.file << ": published " << result.published << " messages over " << result.span << " s\n";
     for (const auto& [topic, count] : result.published_by_topic) std::cout << "  " << topic << ": " << count << "\n";
     if (!result.damage.empty()) std::cout << "stopped at damage: " << result.damage << "\n";
     if (result.stamps_skipped)

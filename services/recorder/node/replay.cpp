@@ -130,6 +130,7 @@ ReplayResult replay(Participant& participant, const ReplaySettings& settings, st
     uint16_t channel;
   };
   std::optional<Held> held;
+  std::chrono::steady_clock::time_point first_published;
   const auto publish = [&](const RawSample& sample, uint16_t channel) {
     RawWriter& writer = *writers.at(channel);
     RawWriter::Result written;
@@ -148,6 +149,9 @@ ReplayResult replay(Participant& participant, const ReplaySettings& settings, st
     if (latched.count(channel))
       while (!writer.wait_for_acknowledgments(std::chrono::milliseconds(200)))
         if (StopSignal::requested()) throw Stopped{};
+    const auto now = std::chrono::steady_clock::now();
+    if (result.published == 0) first_published = now;
+    result.span = std::chrono::duration<double>(now - first_published).count();
     ++result.published;
     ++result.published_by_topic[writer.topic()];
     if (progress) progress(result.published, plan.messages);

@@ -39,6 +39,8 @@ struct ReplayResult {
   std::string damage;                                  // with salvage: what ended the file early
   uint64_t stamps_skipped = 0;                         // messages whose stamp jumped alone (broken)
   uint64_t pauses = 0;                                 // gaps over max_gap replayed without waiting
+  double span = 0;                                     // s from the first message published to the last
+                                                       // (the pace; not the wait for readers' acks after)
 };
 
 // Throws McapError for a damaged file (unless salvage) and DdsError; returns early, with
