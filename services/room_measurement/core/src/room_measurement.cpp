@@ -194,7 +194,7 @@ void describe_walls(std::vector<WallLine>& walls, const RoomSettings& settings, 
                     const ViewLimits& view) {
   const PolygonSettings& p = settings.polygon;
   for (auto& wall : walls) {
-    wall.profile = wall_profile(wall, valid, settings.ransac.distance, 0.5);
+    wall.profile = wall_profile(wall, valid, settings.ransac.distance, settings.opening_beyond, 0.5);
     wall.seen_over = seen_over_share(wall, valid, 0.1, 0.2, view.top_at(wall.offset) - p.top_margin - p.top_band);
   }
 }
@@ -281,9 +281,13 @@ void place_hidden_walls(const std::vector<Eigen::Vector3f>& points, const RoomSe
     const WallLine& after = result.walls[(i + 1) % count].line;
     const bool before_nearer = before.offset < after.offset;
     const WallLine& nearer = before_nearer ? before : after;
-    std::vector<Eigen::Vector3f> body;  // its height away from floor and ceiling, whose points run on past the corner
+    // Its height over furniture and under the ceiling: the floor's and the ceiling's points run on
+    // past the corner, and so may a desk or a sideboard standing on from under its end.
+    constexpr double kFurniture = 1.1;  // m over its lowest points: desks, sideboards and counters stand lower
+    const double low = std::min(nearer.z_low + kFurniture, (nearer.z_low + nearer.z_high) / 2);
+    std::vector<Eigen::Vector3f> body;
     for (const auto& p : points)
-      if (p.z() > nearer.z_low + 0.2 && p.z() < nearer.z_high - 0.2) body.push_back(p);
+      if (p.z() > low && p.z() < nearer.z_high - 0.2) body.push_back(p);
     const Eigen::Vector2d placed = intersect_lines(nearer.normal, nearer.offset, result.walls[i].line.normal, result.walls[i].line.offset);
     const WallEnd end = wall_end(nearer, nearer.direction().dot(placed), before_nearer, body, 2 * settings.ransac.distance, kMaxGap);
     const Eigen::Vector2d corner = nearer.offset * nearer.normal + end.along * nearer.direction();

@@ -137,13 +137,16 @@ void drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, 
 }
 
 // Whether a seen wall has points at wall heights well past a corner (`direction` +1: past its
-// end side, -1: its start side): it goes on behind its neighbour, so the corner is not one
-// (the neighbour's end stands in front of it, and a wall between them is hidden).
+// end side, -1: its start side), and is not seen through there: it goes on behind its
+// neighbour, so the corner is not one (the neighbour's end stands in front of it, and a wall
+// between them is hidden). Returns crossing its line there show a gap above what stands on
+// it (a desk under a window, between two pillars): the wall's end is the corner.
 bool runs_past(const WallLine& wall, const Eigen::Vector2d& corner, int direction) {
   constexpr double kPast = 0.25, kReach = 0.05, kLow = 0.3, kHigh = 1.5;  // m
   if (wall.inferred) return false;
-  const double along = wall.direction().dot(corner) + direction * kPast;
-  return wall.profile.has_points(along, kReach, wall.profile.base + kLow, wall.profile.base + kHigh);
+  const double along = wall.direction().dot(corner) + direction * kPast, base = wall.profile.base;
+  return wall.profile.has_points(along, kReach, base + kLow, base + kHigh) &&
+         !wall.profile.seen_through(along, kReach, base + kLow);
 }
 
 // Between parallel neighbours one behind the other, the wall the scanner could not see:
@@ -304,33 +307,58 @@ std::vector<WallLine> merge_collinear(std::vector<WallLine> walls, double angle,
   return walls;
 }
 
-bool WallProfile::has_points(double along, double reach, double z_low, double z_high) const {
+namespace {
+
+// Whether any slot within `reach` of an along-position has a bit set between z_low and z_high.
+bool any_in(const WallProfile& profile, const std::vector<uint64_t>& grid, double along, double reach, double z_low,
+            double z_high) {
   uint64_t wanted = ~0ULL;  // the height cells between z_low and z_high
   if (z_low > -1e8) {
     // Only cells wholly above z_low: a cell reaching below it may hold just points under it.
-    const long low = std::clamp(static_cast<long>(std::ceil((z_low - base) / cell)), 0L, 64L);
-    const long high = std::clamp(static_cast<long>(std::floor((z_high - base) / cell)), -1L, 63L);
+    const long low = std::clamp(static_cast<long>(std::ceil((z_low - profile.base) / profile.cell)), 0L, 64L);
+    const long high = std::clamp(static_cast<long>(std::floor((z_high - profile.base) / profile.cell)), -1L, 63L);
     if (high < low) return false;
     wanted = (high - low == 63 ? ~0ULL : ((1ULL << (high - low + 1)) - 1)) << low;
   }
-  const long first = std::max(0L, static_cast<long>(std::floor((along - reach - origin) / slot)));
-  const long last = std::min(static_cast<long>(cells.size()) - 1, static_cast<long>(std::floor((along + reach - origin) / slot)));
+  const long first = std::max(0L, static_cast<long>(std::floor((along - reach - profile.origin) / profile.slot)));
+  const long last =
+      std::min(static_cast<long>(grid.size()) - 1, static_cast<long>(std::floor((along + reach - profile.origin) / profile.slot)));
   for (long i = first; i <= last; ++i)
-    if (cells[static_cast<size_t>(i)] & wanted) return true;
+    if (grid[static_cast<size_t>(i)] & wanted) return true;
   return false;
 }
 
-WallProfile wall_profile(const WallLine& wall, const std::vector<Eigen::Vector3f>& points, double band, double margin) {
+}  // namespace
+
+bool WallProfile::has_points(double along, double reach, double z_low, double z_high) const {
+  return any_in(*this, cells, along, reach, z_low, z_high);
+}
+
+bool WallProfile::seen_through(double along, double reach, double z_low, double z_high) const {
+  return any_in(*this, through, along, reach, z_low, z_high);
+}
+
+WallProfile wall_profile(const WallLine& wall, const std::vector<Eigen::Vector3f>& points, double band, double beyond,
+                         double margin) {
   WallProfile profile;
   profile.origin = wall.start - margin;
   const auto slots = static_cast<size_t>(std::ceil((wall.end - wall.start + 2 * margin) / profile.slot)) + 1;
   profile.cells.assign(slots, 0);
+  profile.through.assign(slots, 0);
   const Eigen::Vector2f normal = wall.normal.cast<float>(), direction = wall.direction().cast<float>();
-  std::vector<std::pair<size_t, float>> near;  // slot, height
+  auto slot_of = [&](double along) { return std::floor((along - profile.origin) / profile.slot); };
+  std::vector<std::pair<size_t, float>> near, crossing;  // slot, height
   float low = std::numeric_limits<float>::max(), high = std::numeric_limits<float>::lowest();
   for (const auto& p : points) {
-    if (std::abs(normal.dot(p.head<2>()) - static_cast<float>(wall.offset)) > band) continue;
-    const double slot = std::floor((direction.dot(p.head<2>()) - profile.origin) / profile.slot);
+    const double distance = normal.dot(p.head<2>()) - static_cast<float>(wall.offset);
+    if (distance > beyond) {  // where its ray crosses the line
+      const Eigen::Vector3d at = wall.on_ray(p.cast<double>());
+      const double slot = slot_of(wall.direction().dot(at.head<2>()));
+      if (slot >= 0 && slot < static_cast<double>(slots)) crossing.emplace_back(static_cast<size_t>(slot), at.z());
+      continue;
+    }
+    if (std::abs(distance) > band) continue;
+    const double slot = slot_of(direction.dot(p.head<2>()));
     if (slot < 0 || slot >= static_cast<double>(slots)) continue;
     near.emplace_back(static_cast<size_t>(slot), p.z());
     low = std::min(low, p.z());
@@ -339,7 +367,9 @@ WallProfile wall_profile(const WallLine& wall, const std::vector<Eigen::Vector3f
   if (near.empty()) return profile;
   profile.base = low;
   profile.cell = std::max(0.05, (high - low) / 63.9);
-  for (const auto& [slot, z] : near) profile.cells[slot] |= 1ULL << std::min(63, static_cast<int>((z - low) / profile.cell));
+  auto cell_of = [&](float z) { return std::clamp(static_cast<int>(std::floor((z - low) / profile.cell)), 0, 63); };
+  for (const auto& [slot, z] : near) profile.cells[slot] |= 1ULL << cell_of(z);
+  for (const auto& [slot, z] : crossing) profile.through[slot] |= 1ULL << cell_of(z);
   return profile;
 }
 

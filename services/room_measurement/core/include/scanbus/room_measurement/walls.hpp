@@ -12,15 +12,19 @@
 namespace scanbus::room_measurement {
 
 // Where along its line a wall has points of the whole cloud (any height, before the
-// histogram filter drops short columns such as the wall above a door), and at which heights.
+// histogram filter drops short columns such as the wall above a door), and at which heights;
+// and where returns beyond it cross its line (it is seen through there: a gap, an opening).
 struct WallProfile {
   double origin = 0;        // along-position of slot 0, m
   double slot = 0.05;       // m
   double base = 0, cell = 0.05;  // m: heights in 64 cells from base
   std::vector<uint64_t> cells;   // per slot, a bit for each height cell holding a point
+  std::vector<uint64_t> through; // per slot, a bit for each height cell a return beyond crosses
 
   // Whether a slot within `reach` of an along-position holds a point (between z_low and z_high).
   bool has_points(double along, double reach, double z_low = -1e9, double z_high = 1e9) const;
+  // Whether a return beyond the wall crosses its line there.
+  bool seen_through(double along, double reach, double z_low = -1e9, double z_high = 1e9) const;
 };
 
 // A vertical wall: normal . (x, y) = offset, normal pointing away from the scanner.
@@ -61,9 +65,10 @@ std::vector<Eigen::Vector3f> long_runs(const WallLine& wall, double gap, double 
 // within `tail` of it is the stronger one's noise beyond the RANSAC band: dropped.
 std::vector<WallLine> merge_collinear(std::vector<WallLine> walls, double angle, double same, double tail);
 
-// The wall's profile from every point within `band` of its line, over its extent and `margin`
-// beyond each end.
-WallProfile wall_profile(const WallLine& wall, const std::vector<Eigen::Vector3f>& points, double band, double margin);
+// The wall's profile from every point within `band` of its line, and every point more than
+// `beyond` past it, over its extent and `margin` beyond each end.
+WallProfile wall_profile(const WallLine& wall, const std::vector<Eigen::Vector3f>& points, double band, double beyond,
+                         double margin);
 
 // Share of the wall's middle (all but `margin` at each end) where returns pass its line more
 // than `beyond` past it, crossing it above `z_from`: furniture under the ceiling is seen over
