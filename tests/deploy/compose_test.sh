@@ -8,9 +8,10 @@
 # and the recorder, stopped, leaves a valid MCAP file holding the measurement. Tears
 # everything down. All DDS traffic stays on 127.0.0.1 (config/dds/localhost_udp.xml).
 # Exits 77 (a ctest skip) saying why when Docker cannot run here.
-# The image: the build tree's own executables packed by docker/Dockerfile.prebuilt (the
-# same runtime image, without compiling the project again: 15 of CI's minutes); with
-# SCANBUS_COMPOSE_FROM_SOURCE=1, docker/Dockerfile compiles it inside the image as a user would.
+# The image: the build tree's own executables, staged by `cmake --install --strip` and packed
+# by docker/Dockerfile.prebuilt (the same runtime image, without compiling the project again:
+# 15 of CI's minutes); with SCANBUS_COMPOSE_FROM_SOURCE=1, docker/Dockerfile compiles it
+# inside the image as a user would.
 #   compose_test.sh SCANBUS BUILD_DIR
 set -euo pipefail
 scanbus=$1
@@ -53,10 +54,10 @@ if [ "${SCANBUS_COMPOSE_FROM_SOURCE:-0}" = 1 ]; then
     > "$work/build.log" 2>&1 || { tail -n 40 "$work/build.log"; echo "FAIL: docker build"; exit 1; }
 else
   context=$work/context
-  mkdir -p "$context/bin"
-  for executable in $(find "$build_dir" -maxdepth 4 -type f -executable -name 'scanbus*'); do
-    strip --strip-debug -o "$context/bin/$(basename "$executable")" "$executable"
-  done
+  cmake --install "$build_dir" --prefix "$work/stage" --strip > "$work/install.log" ||
+    { cat "$work/install.log"; echo "FAIL: cmake --install"; exit 1; }
+  mkdir -p "$context"
+  cp -r "$work/stage/bin" "$context/bin"
   [ -x "$context/bin/scanbus" ] || { echo "FAIL: no scanbus executable under $build_dir"; exit 1; }
   "$root/docker/runtime-packages.sh" "$context/bin"/* > "$context/runtime-packages.txt"
   cp "$root/docker/runtime-setup.sh" "$context/"
