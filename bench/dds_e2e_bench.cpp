@@ -33,6 +33,7 @@
 #include "scanbus/point_cloud.hpp"
 #include "scanbus/service.hpp"
 #include "scanbus/sim/pty_device.hpp"
+#include "scanbus/typed_topics.hpp"
 #include "protocol.h"
 #include "serial_port.hpp"
 
@@ -46,7 +47,7 @@ namespace {
 
 namespace dds = ::eprosima::fastdds::dds;
 
-constexpr const char* kScanCloudTopic = "rt/scanner/cloud";
+constexpr const char* kScanCloudTopic = topics::kScannerCloud.name;
 constexpr const char* kThroughputTopic = "rt/bench/cloud";
 constexpr uint32_t kMeasurementsPerRevolution = 150;  // 20 RPM at 50 Hz (firmware/PROTOCOL.md)
 constexpr uint32_t kRevolutionsPerScan = 27;

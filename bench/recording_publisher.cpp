@@ -6,6 +6,7 @@
 #include "PointCloud2PubSubTypes.h"
 #include "room_cloud.hpp"
 #include "scanbus/service.hpp"
+#include "scanbus/typed_topics.hpp"
 
 using namespace scanbus;
 
@@ -42,7 +43,7 @@ int main(int argc, char** argv) {
   const auto points = static_cast<uint32_t>(std::stoul(argv[1]));
   const double rate = std::stod(argv[2]), seconds = std::stod(argv[3]);
   Participant participant(dds_settings_from_config(Config::parse("", "")), "recording_publisher");
-  Writer<sensor_msgs::msg::PointCloud2PubSubType> writer(participant, "rt/scanner/cloud");
+  Writer<sensor_msgs::msg::PointCloud2PubSubType> writer(participant, topics::kScannerCloud);
   if (!writer.wait_for_readers(1, std::chrono::seconds(20))) {
     std::cerr << "recording_publisher: no reader on rt/scanner/cloud within 20 s\n";
     return 1;

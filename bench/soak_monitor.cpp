@@ -28,6 +28,7 @@
 #include "scanbus/clock.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/service.hpp"
+#include "scanbus/typed_topics.hpp"
 
 namespace scanbus::bench {
 namespace {
@@ -155,11 +156,11 @@ std::vector<Event> read_events(const std::string& path) {
 
 // What each service publishes, so its return after a restart can be seen.
 const std::map<std::string, std::string>& output_topic() {
-  static const std::map<std::string, std::string> topics = {
-      {"scan_matcher", "rt/scan_match"},         {"pose_estimation", "rt/pose"},
-      {"cloud_assembly", "rt/cloud/assembled"},  {"scanner_io", "rt/scanner/cloud"},
-      {"room_measurement", "rt/room/measurement"}};
-  return topics;
+  static const std::map<std::string, std::string> outputs = {
+      {"scan_matcher", topics::kScanMatch.name},        {"pose_estimation", topics::kPose.name},
+      {"cloud_assembly", topics::kCloudAssembled.name}, {"scanner_io", topics::kScannerCloud.name},
+      {"room_measurement", topics::kRoomMeasurement.name}};
+  return outputs;
 }
 
 struct Outage {  // a service down: from its kill to its first sample from the new process
@@ -175,17 +176,17 @@ class Soak {
 
  public:
   explicit Soak(Participant& participant)
-      : scans_(participant, "rt/scan", logger("rt/scan")),
-        matches_(participant, "rt/scan_match", logger("rt/scan_match")),
-        poses_(participant, "rt/pose", logger("rt/pose")),
-        clouds_(participant, "rt/cloud/assembled",
+      : scans_(participant, topics::kScan, logger(topics::kScan.name)),
+        matches_(participant, topics::kScanMatch, logger(topics::kScanMatch.name)),
+        poses_(participant, topics::kPose, logger(topics::kPose.name)),
+        clouds_(participant, topics::kCloudAssembled,
                 [this](const auto& m, const auto& i) {
-                  log_.at("rt/cloud/assembled").add(to_seconds(m.header().stamp()), i, m.width() * m.height());
+                  log_.at(topics::kCloudAssembled.name).add(to_seconds(m.header().stamp()), i, m.width() * m.height());
                 }),
-        revolutions_(participant, "rt/scanner/cloud", logger("rt/scanner/cloud")),
-        room_scans_(participant, "rt/scanner/scan_cloud", logger("rt/scanner/scan_cloud")),
-        rooms_(participant, "rt/room/measurement", logger("rt/room/measurement")),
-        health_(participant, "rt/scanbus/health", [this](const auto& m, const auto&) { services_.health(m); }) {}
+        revolutions_(participant, topics::kScannerCloud, logger(topics::kScannerCloud.name)),
+        room_scans_(participant, topics::kScannerScanCloud, logger(topics::kScannerScanCloud.name)),
+        rooms_(participant, topics::kRoomMeasurement, logger(topics::kRoomMeasurement.name)),
+        health_(participant, topics::kHealth, [this](const auto& m, const auto&) { services_.health(m); }) {}
 
   const TopicLog& log(const std::string& topic) const { return log_.at(topic); }
   const ServiceTable& services() const { return services_; }
@@ -194,8 +195,9 @@ class Soak {
   // Made before the readers, whose callbacks write into it; std::map nodes never move.
   static std::map<std::string, TopicLog> topic_logs() {
     std::map<std::string, TopicLog> logs;
-    for (const char* topic : {"rt/scan", "rt/scan_match", "rt/pose", "rt/cloud/assembled", "rt/scanner/cloud",
-                              "rt/scanner/scan_cloud", "rt/room/measurement"})
+    for (const char* topic : {topics::kScan.name, topics::kScanMatch.name, topics::kPose.name,
+                              topics::kCloudAssembled.name, topics::kScannerCloud.name, topics::kScannerScanCloud.name,
+                              topics::kRoomMeasurement.name})
       logs.try_emplace(topic);
     return logs;
   }
@@ -289,7 +291,7 @@ std::vector<Outage> judge_faults(const Soak& soak, const std::vector<Event>& eve
     } else if (event.kind == "replug") {
       auto unplug = std::find_if(events.rbegin() + static_cast<long>(events.size() - i), events.rend(),
                                  [](const Event& e) { return e.kind == "unplug"; });
-      const double back = soak.log("rt/scanner/cloud").first_sample(event.wall);
+      const double back = soak.log(topics::kScannerCloud.name).first_sample(event.wall);
       const double recovery = back > 0 ? back - event.wall : -1;
       const bool recovered = back > 0 && recovery <= kRecoveryLimit;
       ok = ok && recovered;
@@ -337,10 +339,10 @@ int monitor(const Options& options) {
     if (StopSignal::wait_for(std::chrono::milliseconds(static_cast<int64_t>(1000 * (start + next - wall_now())))))
       break;
     const double now = wall_now();
-    const auto scans = soak.log("rt/scan").arrivals();
+    const auto scans = soak.log(topics::kScan.name).arrivals();
     const auto scan_wall = wall_by_stamp(scans);
-    const auto poses = soak.log("rt/pose").arrivals();
-    const auto clouds = soak.log("rt/cloud/assembled").arrivals();
+    const auto poses = soak.log(topics::kPose.name).arrivals();
+    const auto clouds = soak.log(topics::kCloudAssembled.name).arrivals();
     auto in_row = [&](const std::vector<TopicLog::Arrival>& arrivals) {
       return std::count_if(arrivals.begin(), arrivals.end(), [&](const auto& a) { return a.wall >= last_row && a.wall < now; });
     };
@@ -376,8 +378,9 @@ int monitor(const Options& options) {
   const double judged_from = start + options.warm_up, judged_to = start + rows.back().t;
   bool ok = true;
 
-  const auto scans = soak.log("rt/scan").arrivals();
-  const std::vector<double> pose_ms = latencies(wall_by_stamp(scans), soak.log("rt/pose").arrivals(), judged_from, judged_to);
+  const auto scans = soak.log(topics::kScan.name).arrivals();
+  const std::vector<double> pose_ms =
+      latencies(wall_by_stamp(scans), soak.log(topics::kPose.name).arrivals(), judged_from, judged_to);
   std::printf("\nafter the %.0f s warm-up (t = %.0f to %.0f s): scan to pose latency p50 %.1f ms, p99 %.1f ms, max %.1f ms\n",
               options.warm_up, options.warm_up, rows.back().t, percentile(pose_ms, 0.5), percentile(pose_ms, 0.99),
               percentile(pose_ms, 1.0));
@@ -415,13 +418,13 @@ int monitor(const Options& options) {
   const std::vector<Outage> outages = judge_faults(soak, events, start, ok);
   // Up to 2 s before the end: what is still on its way is not lost.
   ok = judge_completeness("\nscans (rt/scan) without a pose (rt/pose)",
-                          completeness(scans, soak.log("rt/pose").arrivals(),
+                          completeness(scans, soak.log(topics::kPose.name).arrivals(),
                                        outages_of(outages, {"scan_matcher", "pose_estimation"}), judged_from, judged_to - 2),
                           start) && ok;
-  const auto room_scans = soak.log("rt/scanner/scan_cloud").arrivals();
+  const auto room_scans = soak.log(topics::kScannerScanCloud.name).arrivals();
   if (!room_scans.empty())
     ok = judge_completeness("whole room scans (rt/scanner/scan_cloud) without a RoomMeasurement",
-                            completeness(room_scans, soak.log("rt/room/measurement").arrivals(),
+                            completeness(room_scans, soak.log(topics::kRoomMeasurement.name).arrivals(),
                                          outages_of(outages, {"room_measurement"}), judged_from, judged_to - 5),
                             start) && ok;
   if (const uint64_t lost = participant.lost())

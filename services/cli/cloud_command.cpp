@@ -21,6 +21,7 @@
 #include "scanbus/messages.hpp"
 #include "scanbus/point_cloud.hpp"
 #include "scanbus/service.hpp"
+#include "scanbus/typed_topics.hpp"
 
 namespace scanbus::cli {
 
@@ -28,7 +29,7 @@ namespace {
 
 struct SaveOptions {
   DdsOptions dds;
-  std::string topic = "rt/cloud/assembled";
+  std::string topic = topics::kCloudAssembled.name;
   std::vector<double> window;  // begin, end (s since the epoch) for a request
   std::string out;
   double timeout = 10;

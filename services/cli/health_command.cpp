@@ -8,6 +8,7 @@
 #include "scanbus/clock.hpp"
 #include "scanbus/json.hpp"
 #include "scanbus/service.hpp"
+#include "scanbus/typed_topics.hpp"
 
 namespace scanbus::cli {
 
@@ -52,7 +53,7 @@ int run_health(const HealthOptions& options) {
   std::mutex mutex;
   std::map<std::string, scanbus::msg::Health> latest;  // by service and pid
   bool check_passed = false;
-  Reader<scanbus::msg::HealthPubSubType> reader(participant, "rt/scanbus/health", [&](const auto& sample, const auto&) {
+  Reader<scanbus::msg::HealthPubSubType> reader(participant, topics::kHealth, [&](const auto& sample, const auto&) {
     std::lock_guard<std::mutex> lock(mutex);
     latest[sample.service() + "/" + std::to_string(sample.pid())] = sample;
     if (options.json && !options.once) std::cout << nlohmann::json(sample).dump() << std::endl;

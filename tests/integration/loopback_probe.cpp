@@ -10,6 +10,7 @@
 #include "scanbus/clock.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/service.hpp"
+#include "scanbus/typed_topics.hpp"
 
 namespace {
 
@@ -114,10 +115,10 @@ class Sender : public Service {
   explicit Sender(ServiceContext& context)
       : log_(context.log),
         points_(static_cast<uint32_t>(context.config.section("probe").integer("points", 1000000, 1, 10000000))),
-        scan_(context.participant, "rt/scan", QosSettings{true, false, false, 10}),
-        cloud_(context.participant, "rt/scanner/cloud"),
-        room_(context.participant, "rt/room/measurement"),
-        tf_(context.participant, "rt/tf"),
+        scan_(context.participant, topics::kScan, QosSettings{true, false, false, 10}),
+        cloud_(context.participant, topics::kScannerCloud),
+        room_(context.participant, topics::kRoomMeasurement),
+        tf_(context.participant, topics::kTf),
         sent_(context.health.counter("samples_sent")) {}
 
   int run() override {
@@ -153,15 +154,15 @@ class Receiver : public Service {
       : log_(context.log),
         points_(static_cast<uint32_t>(context.config.section("probe").integer("points", 1000000, 1, 10000000))),
         timeout_(context.config.section("probe").number("timeout", 60.0, 1.0, 600.0)),
-        scan_(context.participant, "rt/scan", QosSettings{true, false, false, 10},
+        scan_(context.participant, topics::kScan, QosSettings{true, false, false, 10},
               [this](const auto& s, const auto&) { check("LaserScan", same_bytes<sensor_msgs::msg::LaserScanPubSubType>(s, make_scan())); }),
-        cloud_(context.participant, "rt/scanner/cloud",
+        cloud_(context.participant, topics::kScannerCloud,
                [this](const auto& s, const auto&) { check("PointCloud2", same_bytes<sensor_msgs::msg::PointCloud2PubSubType>(s, make_cloud(points_))); }),
-        room_(context.participant, "rt/room/measurement",
+        room_(context.participant, topics::kRoomMeasurement,
               [this](const auto& s, const auto&) { check("RoomMeasurement", same_bytes<scanbus::msg::RoomMeasurementPubSubType>(s, make_room())); }),
-        tf_(context.participant, "rt/tf",
+        tf_(context.participant, topics::kTf,
             [this](const auto& s, const auto&) { check("TFMessage", same_bytes<tf2_msgs::msg::TFMessagePubSubType>(s, make_tf())); }),
-        health_(context.participant, "rt/scanbus/health", [this](const auto& s, const auto&) {
+        health_(context.participant, topics::kHealth, [this](const auto& s, const auto&) {
           if (s.service() == "probe_sender") check("Health", true);
         }) {}
 

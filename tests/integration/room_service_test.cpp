@@ -14,6 +14,7 @@
 #include "scanbus/messages.hpp"
 #include "scanbus/point_cloud.hpp"
 #include "scanbus/service.hpp"
+#include "scanbus/typed_topics.hpp"
 
 using namespace scanbus;
 using namespace std::chrono_literals;
@@ -39,7 +40,7 @@ std::vector<CloudPoint> box_room() {
 }
 
 template <class PubSubType>
-std::optional<typename PubSubType::type> first_sample(Participant& participant, const std::string& topic,
+std::optional<typename PubSubType::type> first_sample(Participant& participant, const Topic<PubSubType>& topic,
                                                       std::chrono::seconds timeout) {
   std::mutex mutex;
   std::optional<typename PubSubType::type> sample;
@@ -68,17 +69,17 @@ TEST(RoomService, MeasuresAScanAndLatchesTheResult) {
   ChildProcess service(SCANBUS_CLI, {"run", "room_measurement", "--config", work + "/room.yaml"}, work + "/room.log");
 
   Participant participant(DdsSettings{"", "localhost", 83}, "scanbus/test_room");
-  Writer<sensor_msgs::msg::PointCloud2PubSubType> scans(participant, "rt/scanner/scan_cloud");
+  Writer<sensor_msgs::msg::PointCloud2PubSubType> scans(participant, topics::kScannerScanCloud);
   ASSERT_TRUE(scans.wait_for_readers(1, 20s));
   const builtin_interfaces::msg::Time scan_stamp = to_stamp(1.7e9 + 0.25);
   ASSERT_TRUE(scans.write(to_point_cloud2(box_room(), "scanner", scan_stamp)));
-  const auto walls = first_sample<sensor_msgs::msg::PointCloud2PubSubType>(participant, "rt/room/walls", 30s);
+  const auto walls = first_sample(participant, topics::kRoomWalls, 30s);
   ASSERT_TRUE(walls.has_value());
   std::this_thread::sleep_for(500ms);
 
   // A subscriber that joins now, after the result went out.
   Participant late(DdsSettings{"", "localhost", 83}, "scanbus/test_room_late");
-  const auto room = first_sample<scanbus::msg::RoomMeasurementPubSubType>(late, "rt/room/measurement", 10s);
+  const auto room = first_sample(late, topics::kRoomMeasurement, 10s);
   ASSERT_TRUE(room.has_value());
   EXPECT_EQ(room->status(), scanbus::msg::RoomMeasurement_Constants::OK) << room->message();
   // Stamped with the scan it was measured from, so a subscriber can pair them.

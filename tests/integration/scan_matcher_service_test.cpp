@@ -12,6 +12,7 @@
 #include "scanbus/clock.hpp"
 #include "scanbus/dds.hpp"
 #include "scanbus/messages.hpp"
+#include "scanbus/typed_topics.hpp"
 
 using namespace scanbus;
 using namespace std::chrono_literals;
@@ -49,15 +50,15 @@ TEST(ScanMatcherService, TracksAKnownFlightAndRejectsABadScan) {
   Participant participant(DdsSettings{"", "localhost", 82}, "scanbus/test_scan_matcher");
   QosSettings reliable;
   reliable.depth = 100;
-  Writer<sensor_msgs::msg::LaserScanPubSubType> scans(participant, "rt/scan", reliable);
+  Writer<sensor_msgs::msg::LaserScanPubSubType> scans(participant, topics::kScan, reliable);
   std::mutex mutex;
   std::vector<scanbus::msg::ScanMatch> matches;
-  Reader<scanbus::msg::ScanMatchPubSubType> reader(participant, "rt/scan_match", reliable, [&](const auto& match, const auto&) {
+  Reader<msg::ScanMatchPubSubType> reader(participant, topics::kScanMatch, reliable, [&](const auto& m, const auto&) {
     std::lock_guard<std::mutex> lock(mutex);
-    matches.push_back(match);
+    matches.push_back(m);
   });
   std::atomic<uint64_t> rejected{0};
-  Reader<scanbus::msg::HealthPubSubType> health(participant, "rt/scanbus/health", [&](const auto& h, const auto&) {
+  Reader<scanbus::msg::HealthPubSubType> health(participant, topics::kHealth, [&](const auto& h, const auto&) {
     if (h.service() != "scan_matcher") return;
     for (const auto& counter : h.counters())
       if (counter.name() == "scans_rejected") rejected = counter.value();
@@ -115,10 +116,10 @@ TEST(ScanMatcherService, CountsTheScansABurstLost) {
   ChildProcess service(SCANBUS_CLI, {"run", "scan_matcher"}, work + "/matcher.log");
 
   Participant participant(DdsSettings{"", "localhost", 85}, "scanbus/test_scan_burst");
-  Writer<sensor_msgs::msg::LaserScanPubSubType> scans(participant, "rt/scan");
+  Writer<sensor_msgs::msg::LaserScanPubSubType> scans(participant, topics::kScan);
   std::mutex mutex;
   uint64_t processed = 0, lost = 0;
-  Reader<scanbus::msg::HealthPubSubType> health(participant, "rt/scanbus/health", [&](const auto& h, const auto&) {
+  Reader<scanbus::msg::HealthPubSubType> health(participant, topics::kHealth, [&](const auto& h, const auto&) {
     if (h.service() != "scan_matcher") return;
     std::lock_guard<std::mutex> lock(mutex);
     processed = lost = 0;

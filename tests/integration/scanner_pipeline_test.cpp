@@ -16,6 +16,7 @@
 #include "scanbus/service.hpp"
 #include "scanbus/sim/pty_device.hpp"
 #include "scanbus/sim/room_file.hpp"
+#include "scanbus/typed_topics.hpp"
 
 using namespace scanbus;
 using namespace std::chrono_literals;
@@ -29,13 +30,13 @@ class ScannerObserver {
  public:
   explicit ScannerObserver(int domain)
       : participant_(DdsSettings{"", "localhost", domain}, "scanbus/test"),
-        batches_(participant_, "rt/scanner/spherical", QosSettings{true, false, true, 1},
+        batches_(participant_, topics::kScannerSpherical, QosSettings{true, false, true, 1},
                  [this](const auto& batch, const auto&) { locked([&] { batches.push_back(batch); }); }),
-        scans_(participant_, "rt/scanner/scan_cloud",
+        scans_(participant_, topics::kScannerScanCloud,
                [this](const auto& cloud, const auto&) { locked([&] { scans.push_back(from_point_cloud2(cloud)); }); }),
-        statuses_(participant_, "rt/scanner/status", QosSettings{true, false, true, 1},
+        statuses_(participant_, topics::kScannerStatus, QosSettings{true, false, true, 1},
                   [this](const auto& status, const auto&) { locked([&] { statuses.push_back(status); }); }),
-        health_(participant_, "rt/scanbus/health", [this](const auto& health, const auto&) {
+        health_(participant_, topics::kHealth, [this](const auto& health, const auto&) {
           if (health.service() != "scanner_io") return;
           locked([&] {
             for (const auto& counter : health.counters()) counters[counter.name()] = counter.value();
@@ -269,7 +270,7 @@ TEST_F(ScannerPipeline, CommandsOverDdsStartAndStopTheScanner) {
   wait_for_discovery();
   auto simulator = start_simulator({"--speed", "10"});
   Participant participant(DdsSettings{"", "localhost", 75}, "scanbus/test_commands");
-  Writer<scanbus::msg::ScannerCommandPubSubType> commands(participant, "rt/scanner/command");
+  Writer<scanbus::msg::ScannerCommandPubSubType> commands(participant, topics::kScannerCommand);
   ASSERT_TRUE(commands.wait_for_readers(1, 20s));
   auto send = [&](uint8_t command, uint8_t resolution) {
     scanbus::msg::ScannerCommand sample;

@@ -22,6 +22,7 @@
 #include "scanbus/recorder/mcap_writer.hpp"
 #include "scanbus/recorder/ros2msg.hpp"
 #include "scanbus/service.hpp"
+#include "scanbus/typed_topics.hpp"
 
 using namespace scanbus;
 
@@ -154,7 +155,7 @@ int receive(const std::string& expected_path, double seconds) {
 
 int burst(uint32_t count, uint32_t rays, const std::string& history) {
   Participant participant(dds_settings_from_config(Config::parse("", "")), "mcap_probe/burst");
-  Writer<sensor_msgs::msg::LaserScanPubSubType> writer(participant, "rt/scan",
+  Writer<sensor_msgs::msg::LaserScanPubSubType> writer(participant, topics::kScan,
                                                        QosSettings{true, false, history == "keep_all", 5});
   if (!writer.wait_for_readers(1, std::chrono::seconds(20))) throw std::runtime_error("no reader on rt/scan within 20 s");
   sensor_msgs::msg::LaserScan scan;
