@@ -16,7 +16,7 @@ build_only=false
 [ "${1:-}" = "--build-only" ] && build_only=true
 if ! $build_only; then
   # Tests, benchmarks, the firmware's AVR build, tools the tests drive, the deployment test,
-  # the fuzzing (clang's libFuzzer and sanitizer runtimes).
+  # the fuzzing (clang's libFuzzer and sanitizer runtimes), the format check.
   packages+=(
     git fastdds-tools
     libgtest-dev libgmock-dev libbenchmark-dev
@@ -24,7 +24,7 @@ if ! $build_only; then
     iproute2 procps python3 python3-ezdxf gdal-bin
     docker.io docker-compose debootstrap
     cyclonedds-dev cyclonedds-tools openssl
-    clang libclang-rt-14-dev
+    clang libclang-rt-14-dev clang-format
   )
 fi
 
