@@ -15,8 +15,8 @@
 //                                        writes a prebuilt cloud with raw Fast DDS
 //   dds_e2e_bench subscribe MODE         receives until 1.5 s pass without a sample
 // Every result is one JSON object on stdout.
-#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <unistd.h>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
 #include <algorithm>
 #include <condition_variable>
@@ -27,6 +27,7 @@
 #include <thread>
 
 #include "PointCloud2PubSubTypes.h"
+#include "protocol.h"
 #include "room_cloud.hpp"
 #include "scanbus/child_process.hpp"
 #include "scanbus/clock.hpp"
@@ -34,7 +35,6 @@
 #include "scanbus/service.hpp"
 #include "scanbus/sim/pty_device.hpp"
 #include "scanbus/typed_topics.hpp"
-#include "protocol.h"
 #include "serial_port.hpp"
 
 using Clock = std::chrono::steady_clock;
@@ -148,8 +148,13 @@ std::string temporary_path(const std::string& name) {
 
 json percentiles(std::vector<double> values) {
   std::sort(values.begin(), values.end());
-  auto at = [&](double share) { return values[std::min(values.size() - 1, static_cast<size_t>(share * values.size()))]; };
-  return {{"samples", values.size()}, {"median_us", at(0.5)}, {"p90_us", at(0.9)}, {"p99_us", at(0.99)},
+  auto at = [&](double share) {
+    return values[std::min(values.size() - 1, static_cast<size_t>(share * values.size()))];
+  };
+  return {{"samples", values.size()},
+          {"median_us", at(0.5)},
+          {"p90_us", at(0.9)},
+          {"p99_us", at(0.99)},
           {"max_us", values.back()}};
 }
 
@@ -208,13 +213,15 @@ int latency(const std::string& mode, int revolutions) {
   const std::string config = temporary_path("scanner_io.yaml");
   std::ofstream(config) << "scanner_io:\n  port: " << device.path() << "\n  scans: 0\nservice:\n  log_level: warn\n";
   const std::string dir = own_executable().substr(0, own_executable().rfind('/'));
-  ChildProcess child = mode == "scanbus"
-                           ? ChildProcess(dir + "/../services/scanner_io/scanbus_scanner_io", {"--config", config},
-                                          temporary_path("scanner_io.log"))
-                           : ChildProcess(own_executable(), {"relay", device.path(), std::to_string(kMeasurementsPerRevolution)},
-                                          temporary_path("relay.log"));
+  ChildProcess child =
+      mode == "scanbus"
+          ? ChildProcess(dir + "/../services/scanner_io/scanbus_scanner_io", {"--config", config},
+                         temporary_path("scanner_io.log"))
+          : ChildProcess(own_executable(), {"relay", device.path(), std::to_string(kMeasurementsPerRevolution)},
+                         temporary_path("relay.log"));
   if (!wait_until([&] { return reader.matched_writers() > 0; }, std::chrono::seconds(20)))
-    throw std::runtime_error(child.name() + " did not publish " + kScanCloudTopic + " within 20 s (see " + child.log_path() + ")");
+    throw std::runtime_error(child.name() + " did not publish " + kScanCloudTopic + " within 20 s (see " +
+                             child.log_path() + ")");
   device.hello();
   std::vector<double> latencies;
   const int warm_up = 20;
@@ -231,7 +238,8 @@ int latency(const std::string& mode, int revolutions) {
     device.send('L', {index, pitch});
     lock.lock();
     if (!arrived.wait_for(lock, std::chrono::seconds(2), [&] { return clouds >= expected; }))
-      throw std::runtime_error("no PointCloud2 within 2 s of revolution " + std::to_string(lap) + "'s end (see " + child.log_path() + ")");
+      throw std::runtime_error("no PointCloud2 within 2 s of revolution " + std::to_string(lap) + "'s end (see " +
+                               child.log_path() + ")");
     if (lap >= warm_up) latencies.push_back(std::chrono::duration<double, std::micro>(arrival - sent).count());
     lock.unlock();
     if (index + 1 == kRevolutionsPerScan) {
@@ -239,7 +247,8 @@ int latency(const std::string& mode, int revolutions) {
       std::this_thread::sleep_for(std::chrono::milliseconds(30));  // the scan's cloud goes out, untimed
     }
   }
-  std::cout << json{{"mode", mode}, {"points", kMeasurementsPerRevolution}, {"latency", percentiles(latencies)}} << std::endl;
+  std::cout << json{{"mode", mode}, {"points", kMeasurementsPerRevolution}, {"latency", percentiles(latencies)}}
+            << std::endl;
   std::remove(config.c_str());
   return 0;
 }
@@ -272,7 +281,9 @@ int relay(const std::string& port_path, uint32_t points) {
 int throughput(const std::string& mode, uint32_t points, double seconds) {
   ChildProcess subscriber(own_executable(), {"subscribe", mode}, temporary_path("subscribe.log"));
   const std::vector<CloudPoint> source = room_points(points);
-  const auto deadline = [&](Clock::time_point start) { return Clock::now() - start < std::chrono::duration<double>(seconds); };
+  const auto deadline = [&](Clock::time_point start) {
+    return Clock::now() - start < std::chrono::duration<double>(seconds);
+  };
   uint64_t published = 0, retried = 0;
   // A full queue that stays full for max_blocking_time refuses the sample: write it again.
   auto publish = [&](const auto& write) {
@@ -286,15 +297,18 @@ int throughput(const std::string& mode, uint32_t points, double seconds) {
     if (!writer.wait_for_readers(1, std::chrono::seconds(20))) throw std::runtime_error("no subscriber within 20 s");
     for (const auto start = Clock::now(); deadline(start);) {
       // `convert`: as a service publishes, its points become a new PointCloud2 each time.
-      if (mode == "convert") cloud = to_point_cloud2(source, "map", now_stamp());
-      else cloud.header().stamp(now_stamp());
+      if (mode == "convert")
+        cloud = to_point_cloud2(source, "map", now_stamp());
+      else
+        cloud.header().stamp(now_stamp());
       publish([&] { return writer.write(cloud); });
     }
     writer.wait_for_acknowledgments(std::chrono::seconds(30));
   } else {
     RawEndpoints endpoints(kThroughputTopic);
     dds::DataWriter* writer = endpoints.writer(throughput_writer_qos());
-    if (!wait_until([&] { return matched(writer) > 0; }, std::chrono::seconds(20))) throw std::runtime_error("no subscriber within 20 s");
+    if (!wait_until([&] { return matched(writer) > 0; }, std::chrono::seconds(20)))
+      throw std::runtime_error("no subscriber within 20 s");
     for (const auto start = Clock::now(); deadline(start);) {
       cloud.header().stamp(now_stamp());
       publish([&] { return writer->write(&cloud); });
@@ -323,13 +337,18 @@ class Receipts {
   // Waits for a first sample (60 s), then until 1.5 s pass without one.
   json wait() {
     wait_until([&] { return count() > 0; }, std::chrono::seconds(60));
-    wait_until([&] { std::lock_guard<std::mutex> lock(mutex_); return Clock::now() - last_ > std::chrono::milliseconds(1500); },
-               std::chrono::hours(1));
+    wait_until(
+        [&] {
+          std::lock_guard<std::mutex> lock(mutex_);
+          return Clock::now() - last_ > std::chrono::milliseconds(1500);
+        },
+        std::chrono::hours(1));
     std::lock_guard<std::mutex> lock(mutex_);
     const double span = std::chrono::duration<double>(last_ - first_).count();
     // Rates over the intervals between the first and the last sample.
     const double rate = samples_ > 1 ? (samples_ - 1) / span : 0;
-    return {{"received", samples_}, {"sample_bytes", bytes_}, {"samples_per_s", rate}, {"mb_per_s", rate * bytes_ / 1e6}};
+    return {
+        {"received", samples_}, {"sample_bytes", bytes_}, {"samples_per_s", rate}, {"mb_per_s", rate * bytes_ / 1e6}};
   }
 
  private:
@@ -385,7 +404,8 @@ int main(int argc, char** argv) {
   using namespace scanbus::bench;
   const std::vector<std::string> args(argv + 1, argv + argc);
   auto usage = [] {
-    std::cerr << "usage: dds_e2e_bench latency scanbus|raw REVOLUTIONS | throughput scanbus|convert|raw POINTS SECONDS\n";
+    std::cerr
+        << "usage: dds_e2e_bench latency scanbus|raw REVOLUTIONS | throughput scanbus|convert|raw POINTS SECONDS\n";
     return 2;
   };
   try {

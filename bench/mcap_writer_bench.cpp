@@ -13,7 +13,8 @@ namespace {
 
 void BM_McapWriterCloud(benchmark::State& state) {
   const auto compression = static_cast<Compression>(state.range(0));
-  const std::vector<uint8_t> clouds[2] = {bench::room_cloud_points(1'000'000, 1), bench::room_cloud_points(1'000'000, 2)};
+  const std::vector<uint8_t> clouds[2] = {bench::room_cloud_points(1'000'000, 1),
+                                          bench::room_cloud_points(1'000'000, 2)};
   const auto path = std::filesystem::temp_directory_path() / "scanbus_mcap_writer_bench.mcap";
   McapWriter writer(path.string(), {compression, 4 << 20});
   const uint16_t schema = writer.add_schema("sensor_msgs/msg/PointCloud2", "ros2msg", "");

@@ -5,9 +5,9 @@
 
 #include <stdexcept>
 
+#include "scanbus/room_evaluation/simulated_scan.hpp"
 #include "scanbus/room_measurement/room_measurement.hpp"
 #include "scanbus/sim/room_file.hpp"
-#include "scanbus/room_evaluation/simulated_scan.hpp"
 
 namespace {
 

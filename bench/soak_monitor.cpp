@@ -35,9 +35,7 @@ namespace {
 
 constexpr double kRecoveryLimit = 5.0;  // s, issue 21's target for a restart or a replug
 
-double wall_now() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
+double wall_now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
 
 // Resident memory of a process in MB, from /proc; 0 when it is gone.
 double rss_mb(uint32_t pid) {
@@ -156,10 +154,11 @@ std::vector<Event> read_events(const std::string& path) {
 
 // What each service publishes, so its return after a restart can be seen.
 const std::map<std::string, std::string>& output_topic() {
-  static const std::map<std::string, std::string> outputs = {
-      {"scan_matcher", topics::kScanMatch.name},        {"pose_estimation", topics::kPose.name},
-      {"cloud_assembly", topics::kCloudAssembled.name}, {"scanner_io", topics::kScannerCloud.name},
-      {"room_measurement", topics::kRoomMeasurement.name}};
+  static const std::map<std::string, std::string> outputs = {{"scan_matcher", topics::kScanMatch.name},
+                                                             {"pose_estimation", topics::kPose.name},
+                                                             {"cloud_assembly", topics::kCloudAssembled.name},
+                                                             {"scanner_io", topics::kScannerCloud.name},
+                                                             {"room_measurement", topics::kRoomMeasurement.name}};
   return outputs;
 }
 
@@ -195,9 +194,9 @@ class Soak {
   // Made before the readers, whose callbacks write into it; std::map nodes never move.
   static std::map<std::string, TopicLog> topic_logs() {
     std::map<std::string, TopicLog> logs;
-    for (const char* topic : {topics::kScan.name, topics::kScanMatch.name, topics::kPose.name,
-                              topics::kCloudAssembled.name, topics::kScannerCloud.name, topics::kScannerScanCloud.name,
-                              topics::kRoomMeasurement.name})
+    for (const char* topic :
+         {topics::kScan.name, topics::kScanMatch.name, topics::kPose.name, topics::kCloudAssembled.name,
+          topics::kScannerCloud.name, topics::kScannerScanCloud.name, topics::kRoomMeasurement.name})
       logs.try_emplace(topic);
     return logs;
   }
@@ -261,8 +260,10 @@ Completeness completeness(const std::vector<TopicLog::Arrival>& inputs, const st
     const bool explained = std::any_of(outages.begin(), outages.end(), [&](const Outage& outage) {
       return input.wall >= outage.from - 1.0 && input.wall <= outage.to;
     });
-    if (explained) ++result.missing_in_outages;
-    else result.unexplained_walls.push_back(input.wall);
+    if (explained)
+      ++result.missing_in_outages;
+    else
+      result.unexplained_walls.push_back(input.wall);
   }
   return result;
 }
@@ -270,13 +271,13 @@ Completeness completeness(const std::vector<TopicLog::Arrival>& inputs, const st
 // Judges each fault's recovery, prints one line per fault; the outages found, by service.
 std::vector<Outage> judge_faults(const Soak& soak, const std::vector<Event>& events, double start, bool& ok) {
   std::vector<Outage> outages;
-  if (!events.empty()) std::printf("\nfaults (t from the soak's start; recovery counted from the restart or the replug):\n");
+  if (!events.empty())
+    std::printf("\nfaults (t from the soak's start; recovery counted from the restart or the replug):\n");
   for (size_t i = 0; i < events.size(); ++i) {
     const Event& event = events[i];
     if (event.kind == "start") {
-      auto kill = std::find_if(events.rbegin() + static_cast<long>(events.size() - i), events.rend(), [&](const Event& e) {
-        return e.kind == "kill" && e.service == event.service;
-      });
+      auto kill = std::find_if(events.rbegin() + static_cast<long>(events.size() - i), events.rend(),
+                               [&](const Event& e) { return e.kind == "kill" && e.service == event.service; });
       if (kill == events.rend() || !output_topic().count(event.service)) continue;
       const double back = soak.log(output_topic().at(event.service)).first_new_writer(event.wall);
       const double recovery = back > 0 ? back - event.wall : -1;
@@ -285,8 +286,7 @@ std::vector<Outage> judge_faults(const Soak& soak, const std::vector<Event>& eve
       outages.push_back({event.service, kill->wall, back > 0 ? back : 1e300});
       std::printf("  t %6.1f s  %-16s killed (SIGKILL), started %.2f s later, publishing %s again %s: %s\n",
                   kill->wall - start, event.service.c_str(), event.wall - kill->wall,
-                  output_topic().at(event.service).c_str(),
-                  after(back, event.wall, "its start").c_str(),
+                  output_topic().at(event.service).c_str(), after(back, event.wall, "its start").c_str(),
                   recovered ? "ok" : "TOO SLOW");
     } else if (event.kind == "replug") {
       auto unplug = std::find_if(events.rbegin() + static_cast<long>(events.size() - i), events.rend(),
@@ -299,8 +299,7 @@ std::vector<Outage> judge_faults(const Soak& soak, const std::vector<Event>& eve
       std::printf("  t %6.1f s  serial device    unplugged for %.1f s, a revolution %s: %s\n",
                   (unplug != events.rend() ? unplug->wall : event.wall) - start,
                   unplug != events.rend() ? event.wall - unplug->wall : 0.0,
-                  after(back, event.wall, "the replug").c_str(),
-                  recovered ? "ok" : "TOO SLOW");
+                  after(back, event.wall, "the replug").c_str(), recovered ? "ok" : "TOO SLOW");
     }
   }
   return outages;
@@ -329,7 +328,8 @@ int monitor(const Options& options) {
 
   std::printf("%6s %6s %6s | pose latency ms %5s %5s %5s | cloud ms %5s %5s %9s |", "t s", "scans", "poses", "p50",
               "p99", "max", "p50", "max", "points");
-  for (const auto& service : options.services) std::printf(" %*s", static_cast<int>(std::max<size_t>(8, service.size() + 3)), (service + " MB").c_str());
+  for (const auto& service : options.services)
+    std::printf(" %*s", static_cast<int>(std::max<size_t>(8, service.size() + 3)), (service + " MB").c_str());
   std::printf("\n");
   std::vector<Row> rows;
   std::map<std::string, uint64_t> lost_at_warm_up;
@@ -344,7 +344,8 @@ int monitor(const Options& options) {
     const auto poses = soak.log(topics::kPose.name).arrivals();
     const auto clouds = soak.log(topics::kCloudAssembled.name).arrivals();
     auto in_row = [&](const std::vector<TopicLog::Arrival>& arrivals) {
-      return std::count_if(arrivals.begin(), arrivals.end(), [&](const auto& a) { return a.wall >= last_row && a.wall < now; });
+      return std::count_if(arrivals.begin(), arrivals.end(),
+                           [&](const auto& a) { return a.wall >= last_row && a.wall < now; });
     };
     const std::vector<double> pose_ms = latencies(scan_wall, poses, last_row, now);
     const std::vector<double> cloud_ms = latencies(scan_wall, clouds, last_row, now);
@@ -353,8 +354,10 @@ int monitor(const Options& options) {
                 percentile(pose_ms, 0.99), percentile(pose_ms, 1.0));
     const uint32_t map_points = clouds.empty() ? 0 : clouds.back().points;
     // cloud_assembly publishes only when its map grew: none once the voxel budget is full.
-    if (cloud_ms.empty()) std::printf(" %14s %5s %9u |", "-", "-", map_points);
-    else std::printf(" %14.1f %5.1f %9u |", percentile(cloud_ms, 0.5), percentile(cloud_ms, 1.0), map_points);
+    if (cloud_ms.empty())
+      std::printf(" %14s %5s %9u |", "-", "-", map_points);
+    else
+      std::printf(" %14.1f %5.1f %9u |", percentile(cloud_ms, 0.5), percentile(cloud_ms, 1.0), map_points);
     for (const auto& service : options.services) {
       row.rss.push_back(rss_mb(soak.services().pid(service)));
       std::printf(" %*.1f", static_cast<int>(std::max<size_t>(8, service.size() + 3)), row.rss.back());
@@ -381,9 +384,10 @@ int monitor(const Options& options) {
   const auto scans = soak.log(topics::kScan.name).arrivals();
   const std::vector<double> pose_ms =
       latencies(wall_by_stamp(scans), soak.log(topics::kPose.name).arrivals(), judged_from, judged_to);
-  std::printf("\nafter the %.0f s warm-up (t = %.0f to %.0f s): scan to pose latency p50 %.1f ms, p99 %.1f ms, max %.1f ms\n",
-              options.warm_up, options.warm_up, rows.back().t, percentile(pose_ms, 0.5), percentile(pose_ms, 0.99),
-              percentile(pose_ms, 1.0));
+  std::printf(
+      "\nafter the %.0f s warm-up (t = %.0f to %.0f s): scan to pose latency p50 %.1f ms, p99 %.1f ms, max %.1f ms\n",
+      options.warm_up, options.warm_up, rows.back().t, percentile(pose_ms, 0.5), percentile(pose_ms, 0.99),
+      percentile(pose_ms, 1.0));
   for (size_t i = 0; i < options.services.size(); ++i) {
     auto peak = [&](const std::vector<Row>& span) {
       double mb = 0;
@@ -394,7 +398,10 @@ int monitor(const Options& options) {
     const bool running = rows.back().rss[i] > 0, flat = growth <= 0.05 * before + 5;
     ok = ok && running && flat;
     std::printf("%-16s RSS peak %.1f MB in the first third, %.1f MB in the last (%+.1f MB): %s\n",
-                options.services[i].c_str(), before, after, growth, !running ? "NOT RUNNING" : flat ? "flat" : "GROWING");
+                options.services[i].c_str(), before, after, growth,
+                !running ? "NOT RUNNING"
+                : flat   ? "flat"
+                         : "GROWING");
   }
   auto median_p50 = [](const std::vector<Row>& span) {
     std::vector<double> p50;
@@ -407,28 +414,35 @@ int monitor(const Options& options) {
   ok = ok && (steady || !events.empty()) && !pose_ms.empty();
   std::printf("pose latency, median of the rows' p50: %.1f ms in the first third, %.1f ms in the last: %s\n",
               median_p50(first), median_p50(last),
-              !events.empty() ? "not judged (faults)" : steady ? "steady" : "GROWING");
+              !events.empty() ? "not judged (faults)"
+              : steady        ? "steady"
+                              : "GROWING");
   for (const auto& service : options.services) {
     const uint64_t lost = soak.services().lost(service) - lost_at_warm_up[service];
     ok = ok && lost == 0;
-    std::printf("%-16s samples lost by its readers (sequence gaps, Health samples_lost): %lu after the warm-up, %lu before\n",
-                service.c_str(), static_cast<unsigned long>(lost), static_cast<unsigned long>(lost_at_warm_up[service]));
+    std::printf(
+        "%-16s samples lost by its readers (sequence gaps, Health samples_lost): %lu after the warm-up, %lu before\n",
+        service.c_str(), static_cast<unsigned long>(lost), static_cast<unsigned long>(lost_at_warm_up[service]));
   }
 
   const std::vector<Outage> outages = judge_faults(soak, events, start, ok);
   // Up to 2 s before the end: what is still on its way is not lost.
-  ok = judge_completeness("\nscans (rt/scan) without a pose (rt/pose)",
-                          completeness(scans, soak.log(topics::kPose.name).arrivals(),
-                                       outages_of(outages, {"scan_matcher", "pose_estimation"}), judged_from, judged_to - 2),
-                          start) && ok;
+  ok = judge_completeness(
+           "\nscans (rt/scan) without a pose (rt/pose)",
+           completeness(scans, soak.log(topics::kPose.name).arrivals(),
+                        outages_of(outages, {"scan_matcher", "pose_estimation"}), judged_from, judged_to - 2),
+           start) &&
+       ok;
   const auto room_scans = soak.log(topics::kScannerScanCloud.name).arrivals();
   if (!room_scans.empty())
     ok = judge_completeness("whole room scans (rt/scanner/scan_cloud) without a RoomMeasurement",
                             completeness(room_scans, soak.log(topics::kRoomMeasurement.name).arrivals(),
                                          outages_of(outages, {"room_measurement"}), judged_from, judged_to - 5),
-                            start) && ok;
+                            start) &&
+         ok;
   if (const uint64_t lost = participant.lost())
-    std::printf("(this monitor's own readers lost %lu samples: its figures miss them)\n", static_cast<unsigned long>(lost));
+    std::printf("(this monitor's own readers lost %lu samples: its figures miss them)\n",
+                static_cast<unsigned long>(lost));
   return ok ? 0 : 1;
 }
 

@@ -28,8 +28,8 @@ void write_backtransform_plot(const std::string& path, const std::vector<Eigen::
     cairo_set_source_rgb(cr, r, g, b);
     for (const auto& p : points) cairo_arc(cr, px(p), py(p), radius, 0, 2 * M_PI), cairo_fill(cr);
   };
-  draw(reference, 0.15, 0.35, 0.85, 2.5);       // scan N: blue, larger
-  draw(backtransformed, 0.9, 0.2, 0.15, 1.3);   // scan N+1 carried back: red, on top
+  draw(reference, 0.15, 0.35, 0.85, 2.5);      // scan N: blue, larger
+  draw(backtransformed, 0.9, 0.2, 0.15, 1.3);  // scan N+1 carried back: red, on top
   cairo_set_source_rgb(cr, 0, 0, 0);
   cairo_arc(cr, px({0, 0}), py({0, 0}), 5, 0, 2 * M_PI);
   cairo_stroke(cr);
@@ -46,7 +46,8 @@ void write_backtransform_plot(const std::string& path, const std::vector<Eigen::
   cairo_status_t status = cairo_surface_write_to_png(surface, path.c_str());
   if (status == CAIRO_STATUS_SUCCESS) status = cairo_surface_status(surface);
   cairo_surface_destroy(surface);
-  if (status != CAIRO_STATUS_SUCCESS) throw std::runtime_error(path + ": cannot write: " + cairo_status_to_string(status));
+  if (status != CAIRO_STATUS_SUCCESS)
+    throw std::runtime_error(path + ": cannot write: " + cairo_status_to_string(status));
 }
 
 }  // namespace scanbus::cli

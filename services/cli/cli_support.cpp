@@ -12,12 +12,15 @@ void DdsOptions::export_to_children() const {
 }
 
 void add_dds_options(CLI::App& command, DdsOptions& options) {
-  command.add_option("--dds-profile", options.profile_file,
-                     "Fast DDS XML profile file (default: built-in loopback-only profile)")
+  command
+      .add_option("--dds-profile", options.profile_file,
+                  "Fast DDS XML profile file (default: built-in loopback-only profile)")
       ->envname("SCANBUS_DDS_PROFILE_FILE");
   command.add_option("--dds-profile-name", options.profile, "Participant profile in that file")
       ->envname("SCANBUS_DDS_PROFILE");
-  command.add_option("--domain", options.domain, "DDS domain id")->check(CLI::Range(0, 232))->envname("SCANBUS_DOMAIN_ID");
+  command.add_option("--domain", options.domain, "DDS domain id")
+      ->check(CLI::Range(0, 232))
+      ->envname("SCANBUS_DOMAIN_ID");
 }
 
 void on_run(CLI::App& command, int& exit_code, std::function<int()> body) {

@@ -14,9 +14,9 @@
 #include "cloud_png.hpp"
 #include "cloud_request.hpp"
 #include "commands.hpp"
+#include "scanbus/clock.hpp"
 #include "scanbus/cloud_assembly/elevation_grid.hpp"
 #include "scanbus/cloud_dem/geotiff.hpp"
-#include "scanbus/clock.hpp"
 #include "scanbus/cloud_io/cloud_files.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/point_cloud.hpp"
@@ -38,11 +38,12 @@ struct SaveOptions {
 std::optional<sensor_msgs::msg::PointCloud2> latest_cloud(Participant& participant, const SaveOptions& options) {
   std::mutex mutex;
   std::optional<sensor_msgs::msg::PointCloud2> cloud;
-  Reader<sensor_msgs::msg::PointCloud2PubSubType> reader(participant, options.topic, [&](const auto& sample, const auto&) {
-    std::lock_guard<std::mutex> lock(mutex);
-    cloud = sample;
-    StopSignal::request();
-  });
+  Reader<sensor_msgs::msg::PointCloud2PubSubType> reader(participant, options.topic,
+                                                         [&](const auto& sample, const auto&) {
+                                                           std::lock_guard<std::mutex> lock(mutex);
+                                                           cloud = sample;
+                                                           StopSignal::request();
+                                                         });
   StopSignal::wait_for(std::chrono::milliseconds(static_cast<long>(options.timeout * 1000)));
   std::lock_guard<std::mutex> lock(mutex);
   return cloud;
@@ -52,9 +53,9 @@ int run_save(const SaveOptions& options) {
   StopSignal::install();
   Participant participant(options.dds.settings(), "scanbus/cloud");
   std::string problem = "no sample on " + options.topic + " within " + std::to_string(options.timeout) + " s";
-  const auto cloud = options.window.empty()
-                         ? latest_cloud(participant, options)
-                         : request_window_cloud(participant, options.window[0], options.window[1], options.timeout, problem);
+  const auto cloud = options.window.empty() ? latest_cloud(participant, options)
+                                            : request_window_cloud(participant, options.window[0], options.window[1],
+                                                                   options.timeout, problem);
   if (!cloud) {
     std::cerr << "scanbus cloud save: " << problem << "\n";
     return 1;
@@ -67,7 +68,8 @@ int run_save(const SaveOptions& options) {
     return 1;
   }
   cloud_io::write_pcd(options.out, points);
-  std::printf("wrote %s: %zu points, frame %s\n", options.out.c_str(), points.size(), cloud->header().frame_id().c_str());
+  std::printf("wrote %s: %zu points, frame %s\n", options.out.c_str(), points.size(),
+              cloud->header().frame_id().c_str());
   return 0;
 }
 
@@ -104,7 +106,8 @@ struct DemOptions {
 
 int run_dem(const DemOptions& options) {
   try {
-    const auto grid = cloud_assembly::grid_elevation(cloud_io::read_cloud(options.cloud, cloud_io::metres_per_unit(options.unit)), options.grid);
+    const auto grid = cloud_assembly::grid_elevation(
+        cloud_io::read_cloud(options.cloud, cloud_io::metres_per_unit(options.unit)), options.grid);
     cloud_dem::write_geotiff(options.out, grid, {options.origin[0], options.origin[1], options.origin[2]});
     float low = INFINITY, high = -INFINITY;
     for (float h : grid.height)
@@ -125,11 +128,13 @@ int run_dem(const DemOptions& options) {
 }  // namespace
 
 void add_cloud_command(CLI::App& app, int& exit_code) {
-  auto* cloud = app.add_subcommand("cloud", "Clouds: save one from the bus, draw one coloured by height, grid one into an elevation GeoTIFF");
+  auto* cloud = app.add_subcommand(
+      "cloud", "Clouds: save one from the bus, draw one coloured by height, grid one into an elevation GeoTIFF");
   cloud->require_subcommand(1);
 
   static SaveOptions save;
-  auto* saving = cloud->add_subcommand("save", "Write the latest cloud of a topic, or a time window's cloud asked of "
+  auto* saving = cloud->add_subcommand("save",
+                                       "Write the latest cloud of a topic, or a time window's cloud asked of "
                                        "cloud_assembly, to PCD");
   saving->add_option("--out", save.out, "PCD file to write")->required();
   saving->add_option("--topic", save.topic, "PointCloud2 topic (latest sample)");
@@ -145,22 +150,29 @@ void add_cloud_command(CLI::App& app, int& exit_code) {
   drawing->add_option("cloud", render.cloud, "Cloud file")->required()->check(CLI::ExistingFile);
   drawing->add_option("--view", render.view, "top or side")->check(CLI::IsMember({"top", "side"}));
   drawing->add_option("--out", render.out, "PNG file to write")->required();
-  drawing->add_option("--unit", render.unit, "Unit of the cloud's coordinates")->check(CLI::IsMember({"m", "cm", "mm"}));
+  drawing->add_option("--unit", render.unit, "Unit of the cloud's coordinates")
+      ->check(CLI::IsMember({"m", "cm", "mm"}));
   drawing->add_option("--title", render.title, "Title above the picture (default: the file name)");
   on_run(*drawing, exit_code, [] { return run_render(render); });
 
   static DemOptions dem;
-  auto* gridding = cloud->add_subcommand("dem", "Grid a map-frame cloud (PCD, PLY, XYZ) into an elevation GeoTIFF: height "
+  auto* gridding = cloud->add_subcommand("dem",
+                                         "Grid a map-frame cloud (PCD, PLY, XYZ) into an elevation GeoTIFF: height "
                                          "above the WGS84 ellipsoid, spread and count per cell");
-  gridding->add_option("cloud", dem.cloud, "Cloud file in the map frame (x east, y north, z up)")->required()->check(CLI::ExistingFile);
-  gridding->add_option("--origin", dem.origin, "The map origin's latitude,longitude (degrees) and altitude (m above the "
-                       "ellipsoid), as the MAV log's META origin")
+  gridding->add_option("cloud", dem.cloud, "Cloud file in the map frame (x east, y north, z up)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  gridding
+      ->add_option("--origin", dem.origin,
+                   "The map origin's latitude,longitude (degrees) and altitude (m above the "
+                   "ellipsoid), as the MAV log's META origin")
       ->required()
       ->expected(3)
       ->delimiter(',');
   gridding->add_option("--out", dem.out, "GeoTIFF file to write")->required();
   gridding->add_option("--cell", dem.grid.cell_size, "Cell size, m")->check(CLI::PositiveNumber);
-  gridding->add_option("--min-points", dem.grid.min_points, "Returns a cell needs for a height")->check(CLI::Range(1, 1000000));
+  gridding->add_option("--min-points", dem.grid.min_points, "Returns a cell needs for a height")
+      ->check(CLI::Range(1, 1000000));
   gridding->add_option("--unit", dem.unit, "Unit of the cloud's coordinates")->check(CLI::IsMember({"m", "cm", "mm"}));
   on_run(*gridding, exit_code, [] { return run_dem(dem); });
 }

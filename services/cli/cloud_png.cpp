@@ -85,7 +85,8 @@ void write_cloud_png(const std::string& path, const std::vector<CloudPoint>& poi
   cairo_destroy(cr);
   const cairo_status_t status = cairo_surface_write_to_png(surface, path.c_str());
   cairo_surface_destroy(surface);
-  if (status != CAIRO_STATUS_SUCCESS) throw std::runtime_error(path + ": cannot write PNG: " + cairo_status_to_string(status));
+  if (status != CAIRO_STATUS_SUCCESS)
+    throw std::runtime_error(path + ": cannot write PNG: " + cairo_status_to_string(status));
 }
 
 }  // namespace scanbus::cli

@@ -16,11 +16,12 @@ std::optional<sensor_msgs::msg::PointCloud2> request_window_cloud(Participant& p
   const std::string client = "scanbus/cloud/" + std::to_string(getpid());
   std::mutex mutex;
   std::optional<scanbus::msg::AssembleReply> reply;
-  Reader<scanbus::msg::AssembleReplyPubSubType> replies(participant, topics::kAssembleReply, [&](const auto& r, const auto&) {
-    if (r.request_id() != id || r.client() != client) return;
-    std::lock_guard<std::mutex> lock(mutex);
-    reply = r;
-  });
+  Reader<scanbus::msg::AssembleReplyPubSubType> replies(participant, topics::kAssembleReply,
+                                                        [&](const auto& r, const auto&) {
+                                                          if (r.request_id() != id || r.client() != client) return;
+                                                          std::lock_guard<std::mutex> lock(mutex);
+                                                          reply = r;
+                                                        });
   Writer<scanbus::msg::AssembleRequestPubSubType> requests(participant, topics::kAssembleRequest);
   // Both directions must be matched, or the reply could be sent before anyone listens.
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout);

@@ -45,8 +45,10 @@ nlohmann::json mav_json(const MavFlightResult& mav, const std::vector<std::strin
                       {"height_rmse_m", {{"fused", mav.fused_rmse}, {"barometer", mav.barometer_rmse}}},
                       {"boxes_ok", mav.boxes.ok},
                       {"files", files}};
-  if (mav.boxes.ok) json["boxes_performance_percent"] = mav.boxes.mean_performance_percent;
-  else json["boxes_message"] = mav.boxes.message;
+  if (mav.boxes.ok)
+    json["boxes_performance_percent"] = mav.boxes.mean_performance_percent;
+  else
+    json["boxes_message"] = mav.boxes.message;
   return json;
 }
 
@@ -71,14 +73,16 @@ int run_demo(const DemoOptions& options) {
   const std::string pcd = options.out + "/scan.pcd", png = options.out + "/room_top.png",
                     plan = options.out + "/floor_plan.png", drawing = options.out + "/floor_plan.dxf";
   cloud_io::write_pcd(pcd, result.points);
-  write_cloud_png(png, result.points, "scanbus demo: built-in room (thesis case 1), simulated scan", CloudView::Top, true);
+  write_cloud_png(png, result.points, "scanbus demo: built-in room (thesis case 1), simulated scan", CloudView::Top,
+                  true);
   std::vector<Eigen::Vector3f> background;
   for (const auto& point : result.points) background.push_back(point.position);
   const std::string plan_title = "scanbus demo: built-in room (thesis case 1, 5.47 m x 3.48 m)";
   write_floor_plan(plan, room, plan_title, background);
   write_floor_plan(drawing, room, plan_title);
   if (!options.json) {
-    std::printf("scan of the built-in room: %zu points from %u revolutions\n", result.points.size(), result.revolutions);
+    std::printf("scan of the built-in room: %zu points from %u revolutions\n", result.points.size(),
+                result.revolutions);
     std::printf("%s", room_text(room).c_str());
     std::printf("wrote %s, %s, %s and %s\n", pcd.c_str(), png.c_str(), plan.c_str(), drawing.c_str());
   }
@@ -102,9 +106,13 @@ int run_demo(const DemoOptions& options) {
     mav_ok = mav.boxes.ok;
     json["mav"] = mav_json(mav, {mav_pcd, top, side});
     if (!options.json) {
-      std::printf("MAV scenario IV (two %.1f x %.1f x %.1f m boxes), %.0f s replayed at %gx through the services: %zu poses of %zu scans\n",
-                  mav.box_size.x(), mav.box_size.y(), mav.box_size.z(), mav.scans / 30.0, options.mav_rate, mav.poses, mav.scans);
-      std::printf("height RMSE against the truth: fused %.3f m, barometer alone %.3f m\n", mav.fused_rmse, mav.barometer_rmse);
+      std::printf(
+          "MAV scenario IV (two %.1f x %.1f x %.1f m boxes), %.0f s replayed at %gx through the services: %zu poses of "
+          "%zu scans\n",
+          mav.box_size.x(), mav.box_size.y(), mav.box_size.z(), mav.scans / 30.0, options.mav_rate, mav.poses,
+          mav.scans);
+      std::printf("height RMSE against the truth: fused %.3f m, barometer alone %.3f m\n", mav.fused_rmse,
+                  mav.barometer_rmse);
       if (mav.boxes.ok) {
         for (const auto& box : mav.boxes.boxes)
           std::printf("box at (%.2f, %.2f): %.3f x %.3f m\n", box.centre.x(), box.centre.y(), box.length, box.width);
@@ -124,11 +132,14 @@ int run_demo(const DemoOptions& options) {
 
 void add_demo_command(CLI::App& app, int& exit_code) {
   static DemoOptions options;
-  auto* command = app.add_subcommand("demo", "Scan the built-in room and fly the MAV's scenario IV through the services; "
+  auto* command = app.add_subcommand("demo",
+                                     "Scan the built-in room and fly the MAV's scenario IV through the services; "
                                      "write the results");
   command->add_option("--out", options.out, "Folder for the cloud, the picture and the processes' logs");
-  command->add_option("--speed", options.speed, "Simulated scanner's speed, times real time")->check(CLI::Range(0.01, 1000.0));
-  command->add_option("--mav-rate", options.mav_rate, "MAV flight's replay, times real time")->check(CLI::Range(0.1, 100.0));
+  command->add_option("--speed", options.speed, "Simulated scanner's speed, times real time")
+      ->check(CLI::Range(0.01, 1000.0));
+  command->add_option("--mav-rate", options.mav_rate, "MAV flight's replay, times real time")
+      ->check(CLI::Range(0.1, 100.0));
   command->add_flag("!--no-mav", options.mav, "Only the room, not the MAV flight");
   command->add_flag("--json", options.json, "Print the result as one JSON object, no progress");
   add_dds_options(*command, options.dds);

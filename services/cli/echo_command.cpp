@@ -58,7 +58,8 @@ int run_echo(const EchoOptions& options) {
   const QosSettings qos = known ? known->qos : QosSettings{false, false, false, 100};
   Participant participant(options.dds.settings(), "scanbus/echo");
   int code = 2;
-  if (!visit_message_type(type, [&](auto tag) { code = echo<typename decltype(tag)::type>(participant, options, qos); })) {
+  if (!visit_message_type(type,
+                          [&](auto tag) { code = echo<typename decltype(tag)::type>(participant, options, qos); })) {
     std::cerr << "scanbus echo: unknown type '" << type << "'\n";
   }
   return code;

@@ -48,8 +48,10 @@ void write_floor_plan(const std::string& path, const room_measurement::RoomResul
   cairo_paint(cr);
   cairo_set_source_rgb(cr, 0.88, 0.88, 0.88);
   cairo_set_line_width(cr, 1);
-  for (double x = std::ceil(low.x()); x <= high.x(); x += 1) cairo_move_to(cr, px(x), margin), cairo_line_to(cr, px(x), size - margin);
-  for (double y = std::ceil(low.y()); y <= high.y(); y += 1) cairo_move_to(cr, margin, py(y)), cairo_line_to(cr, size - margin, py(y));
+  for (double x = std::ceil(low.x()); x <= high.x(); x += 1)
+    cairo_move_to(cr, px(x), margin), cairo_line_to(cr, px(x), size - margin);
+  for (double y = std::ceil(low.y()); y <= high.y(); y += 1)
+    cairo_move_to(cr, margin, py(y)), cairo_line_to(cr, size - margin, py(y));
   cairo_stroke(cr);
   cairo_set_source_rgb(cr, 0.78, 0.78, 0.78);
   for (const auto& p : background)
@@ -151,15 +153,18 @@ void write_floor_plan(const std::string& path, const room_measurement::RoomResul
   cairo_move_to(cr, margin, 48);
   cairo_show_text(cr, summary);
   cairo_move_to(cr, margin, size - 20);
-  cairo_show_text(cr, background.empty() ? "floor plan, grid 1 m, circle = scanner, dots = corners (open: inferred), dashed = wall not seen, white gaps = openings, faint = wall inliers"
-                                         : "floor plan, grid 1 m, circle = scanner, dots = corners (open: inferred), dashed = wall not seen, white gaps = openings, grey = scan (top view)");
+  cairo_show_text(cr, background.empty() ? "floor plan, grid 1 m, circle = scanner, dots = corners (open: inferred), "
+                                           "dashed = wall not seen, white gaps = openings, faint = wall inliers"
+                                         : "floor plan, grid 1 m, circle = scanner, dots = corners (open: inferred), "
+                                           "dashed = wall not seen, white gaps = openings, grey = scan (top view)");
   cairo_destroy(cr);
   cairo_status_t status = CAIRO_STATUS_SUCCESS;
   if (!svg) status = cairo_surface_write_to_png(surface, path.c_str());
   cairo_surface_finish(surface);
   if (status == CAIRO_STATUS_SUCCESS) status = cairo_surface_status(surface);
   cairo_surface_destroy(surface);
-  if (status != CAIRO_STATUS_SUCCESS) throw std::runtime_error(path + ": cannot write: " + cairo_status_to_string(status));
+  if (status != CAIRO_STATUS_SUCCESS)
+    throw std::runtime_error(path + ": cannot write: " + cairo_status_to_string(status));
 }
 
 }  // namespace scanbus::cli

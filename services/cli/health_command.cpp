@@ -24,11 +24,16 @@ struct HealthOptions {
 
 const char* state_name(uint8_t state) {
   switch (state) {
-    case scanbus::msg::Health_Constants::STARTING: return "starting";
-    case scanbus::msg::Health_Constants::OK: return "ok";
-    case scanbus::msg::Health_Constants::DEGRADED: return "degraded";
-    case scanbus::msg::Health_Constants::FAILED: return "failed";
-    case scanbus::msg::Health_Constants::STOPPING: return "stopping";
+    case scanbus::msg::Health_Constants::STARTING:
+      return "starting";
+    case scanbus::msg::Health_Constants::OK:
+      return "ok";
+    case scanbus::msg::Health_Constants::DEGRADED:
+      return "degraded";
+    case scanbus::msg::Health_Constants::FAILED:
+      return "failed";
+    case scanbus::msg::Health_Constants::STOPPING:
+      return "stopping";
   }
   return "unknown";
 }

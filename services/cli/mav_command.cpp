@@ -13,11 +13,11 @@
 
 #include "cloud_png.hpp"
 #include "commands.hpp"
+#include "mav_messages.hpp"
 #include "scanbus/cloud_dem/geotiff.hpp"
 #include "scanbus/cloud_io/cloud_files.hpp"
-#include "scanbus/ground_evaluation/flight_evaluation.hpp"
-#include "mav_messages.hpp"
 #include "scanbus/config.hpp"
+#include "scanbus/ground_evaluation/flight_evaluation.hpp"
 #include "scanbus/mav_sim/flight.hpp"
 #include "scanbus/pose_estimation/pose_estimator.hpp"
 
@@ -37,11 +37,11 @@ struct FlightOptions {
   std::vector<double> box{0.6, 0.4, 0.3};
   unsigned seed = 1;
   std::string gps = "rtk";
-  double noise_scale = 1;   // every sensor error times this
+  double noise_scale = 1;  // every sensor error times this
   std::string pattern = "paper";
-  double laser_rate = 30;   // Hz, the paper's laser
-  int laser_rays = 361;     // at 0.25 degrees: the paper's 90 degrees; 1,081 spans 270 (a Hokuyo UTM-30LX)
-  std::string terrain;      // a YAML file with a `terrain` map; empty: flat, as in the paper
+  double laser_rate = 30;  // Hz, the paper's laser
+  int laser_rays = 361;    // at 0.25 degrees: the paper's 90 degrees; 1,081 spans 270 (a Hokuyo UTM-30LX)
+  std::string terrain;     // a YAML file with a `terrain` map; empty: flat, as in the paper
 };
 
 mav_sim::FlightSettings flight_settings(const FlightOptions& options) {
@@ -78,21 +78,29 @@ void add_flight_options(CLI::App& command, FlightOptions& options) {
       ->expected(3)
       ->delimiter(',');
   command.add_option("--seed", options.seed, "Noise seed");
-  command.add_option("--gps", options.gps, "GPS receiver's mode: rtk (fixed, centimetres), float (RTK float, "
-                     "decimetres) or standalone (metres of wander)")
+  command
+      .add_option("--gps", options.gps,
+                  "GPS receiver's mode: rtk (fixed, centimetres), float (RTK float, "
+                  "decimetres) or standalone (metres of wander)")
       ->check(CLI::IsMember({"rtk", "float", "standalone"}));
-  command.add_option("--pattern", options.pattern, "How the MAV flies over the scenario's ground: paper (the "
-                     "scenario's own motion), lawnmower (four lanes 1.5 m apart), climb (passes climbing and "
-                     "descending 1.5 m), hover-turn (turning on the spot)")
+  command
+      .add_option("--pattern", options.pattern,
+                  "How the MAV flies over the scenario's ground: paper (the "
+                  "scenario's own motion), lawnmower (four lanes 1.5 m apart), climb (passes climbing and "
+                  "descending 1.5 m), hover-turn (turning on the spot)")
       ->check(CLI::IsMember({"paper", "lawnmower", "climb", "hover-turn"}));
-  command.add_option("--noise-scale", options.noise_scale, "Every simulated sensor error times this (0.5, 2: what "
-                     "the fusion does when the real noise is half or twice what its defaults assume)")
+  command
+      .add_option("--noise-scale", options.noise_scale,
+                  "Every simulated sensor error times this (0.5, 2: what "
+                  "the fusion does when the real noise is half or twice what its defaults assume)")
       ->check(CLI::Range(0.0, 10.0));
   command.add_option("--laser-rate", options.laser_rate, "Laser scans per second")->check(CLI::Range(1.0, 200.0));
   command.add_option("--laser-rays", options.laser_rays, "Rays per scan, 0.25 degrees apart, centred on straight down")
       ->check(CLI::Range(2, 1441));
-  command.add_option("--terrain", options.terrain, "YAML file whose `terrain` map shapes the ground under the scenario "
-                     "(slope, mounds, steps, roughness; config/terrain/slope_mound.yaml); default flat")
+  command
+      .add_option("--terrain", options.terrain,
+                  "YAML file whose `terrain` map shapes the ground under the scenario "
+                  "(slope, mounds, steps, roughness; config/terrain/slope_mound.yaml); default flat")
       ->check(CLI::ExistingFile);
 }
 
@@ -118,9 +126,13 @@ nlohmann::json boxes_json(const BoxEvaluation& result) {
   }
   json["performance_percent"] = result.mean_performance_percent;
   for (const auto& box : result.boxes) {
-    json["boxes"].push_back({{"centre", {box.centre.x(), box.centre.y()}}, {"yaw_deg", box.yaw * 180 / M_PI},
-                             {"length_m", box.length}, {"width_m", box.width}, {"height_m", box.height},
-                             {"points", box.points}, {"error_percent", box.error_percent},
+    json["boxes"].push_back({{"centre", {box.centre.x(), box.centre.y()}},
+                             {"yaw_deg", box.yaw * 180 / M_PI},
+                             {"length_m", box.length},
+                             {"width_m", box.width},
+                             {"height_m", box.height},
+                             {"points", box.points},
+                             {"error_percent", box.error_percent},
                              {"performance_percent", box.performance_percent}});
   }
   return json;
@@ -172,14 +184,16 @@ void write_clouds(const std::string& folder, const std::string& flight, const Fl
   }
   if (evaluation.elevation.filled() > 0) {
     const auto& origin = log.meta_of("origin", 3);
-    cloud_dem::write_geotiff(folder + "/" + stem + "_fused_dem.tif", evaluation.elevation, {origin[0], origin[1], origin[2]});
+    cloud_dem::write_geotiff(folder + "/" + stem + "_fused_dem.tif", evaluation.elevation,
+                             {origin[0], origin[1], origin[2]});
   }
 }
 
 nlohmann::json ground_error_json(const ground_evaluation::GroundModelError& g) {
   nlohmann::json json{{"rmse", g.rmse}, {"median", g.median}, {"p95", g.p95}, {"bias", g.bias}, {"points", g.points}};
   if (!std::isnan(g.slope_error))
-    json.update({{"slope", {g.slope.x(), g.slope.y()}}, {"true_slope", {g.true_slope.x(), g.true_slope.y()}},
+    json.update({{"slope", {g.slope.x(), g.slope.y()}},
+                 {"true_slope", {g.true_slope.x(), g.true_slope.y()}},
                  {"slope_error", g.slope_error}});
   return json;
 }
@@ -196,12 +210,14 @@ nlohmann::json evaluation_json(const std::string& name, const FlightEvaluation& 
                       {"fused_within_sigma", {{"1", e.fused_within_sigma[0]}, {"2", e.fused_within_sigma[1]}}}};
   if (!e.has_ground) json["ground_error_note"] = "not measured: the log does not carry its true ground (META scenario)";
   const auto& grid = e.elevation;
-  json["elevation_grid"] = {{"cell_m", grid.cell_size}, {"columns", grid.columns}, {"rows", grid.rows}, {"cells", grid.filled()}};
+  json["elevation_grid"] = {
+      {"cell_m", grid.cell_size}, {"columns", grid.columns}, {"rows", grid.rows}, {"cells", grid.filled()}};
   if (e.has_ground && grid.filled() > 0) json["elevation_grid"]["error_m"] = ground_error_json(e.elevation_error);
   for (int source = 0; source < ground_evaluation::kHeightSources; ++source) {
     if (std::isnan(e.height_rmse[source])) continue;  // no such height in this log (GPS)
     json["height_rmse_m"][ground_evaluation::kHeightSourceNames[source]] = e.height_rmse[source];
-    if (e.has_ground) json["ground_error_m"][ground_evaluation::kHeightSourceNames[source]] = ground_error_json(e.ground[source]);
+    if (e.has_ground)
+      json["ground_error_m"][ground_evaluation::kHeightSourceNames[source]] = ground_error_json(e.ground[source]);
     if (e.has_boxes) json["boxes"][ground_evaluation::kHeightSourceNames[source]] = boxes_json(e.boxes[source]);
   }
   return json;
@@ -248,7 +264,8 @@ int run_eval_mav(EvalMavOptions options) {
         };
       }
       evaluations.push_back(ground_evaluation::evaluate_flight(log, settings, [&](size_t done, size_t total) {
-        if (progress) std::printf("\revaluating %s: %3.0f %%   ", label.c_str(), 100.0 * done / total), std::fflush(stdout);
+        if (progress)
+          std::printf("\revaluating %s: %3.0f %%   ", label.c_str(), 100.0 * done / total), std::fflush(stdout);
       }));
     } catch (const sensor_replay::MavLogError& e) {
       if (progress) std::printf("\n");
@@ -265,10 +282,11 @@ int run_eval_mav(EvalMavOptions options) {
   if (progress) std::printf("\r%60s\r", "");
   nlohmann::json results = nlohmann::json::array();
   if (!options.json)
-    std::printf("%-14s %6s %7s | height RMSE (m): %9s %12s %7s %6s %6s | boxes P: %9s %12s %8s | ground RMSE (m): %9s %12s "
-                "%7s %6s\n",
-                "flight", "scans", "failed", "barometer", "scan matcher", "GPS", "fused", "ratio", "barometer",
-                "scan matcher", "fused", "barometer", "scan matcher", "GPS", "fused");
+    std::printf(
+        "%-14s %6s %7s | height RMSE (m): %9s %12s %7s %6s %6s | boxes P: %9s %12s %8s | ground RMSE (m): %9s %12s "
+        "%7s %6s\n",
+        "flight", "scans", "failed", "barometer", "scan matcher", "GPS", "fused", "ratio", "barometer", "scan matcher",
+        "fused", "barometer", "scan matcher", "GPS", "fused");
   for (size_t i = 0; i < flights.size(); ++i) {
     const std::string& name = flights[i].first;
     const FlightEvaluation& evaluation = evaluations[i];
@@ -368,40 +386,57 @@ int run_eval_ground(const EvalGroundOptions& options) {
 
 void add_mav_sim_command(CLI::App& sim, int& exit_code) {
   static SimOptions options;
-  auto* command = sim.add_subcommand("mav", "A MAV flight of the paper's scenarios I-IV with ground truth, as a MAV log");
-  command->add_option("--scenario", options.flight.scenario, "1 forward flight, 2 rotational hover in wind, "
-                      "3 corner-like ground, 4 two boxes")->check(CLI::Range(1, 4));
+  auto* command =
+      sim.add_subcommand("mav", "A MAV flight of the paper's scenarios I-IV with ground truth, as a MAV log");
+  command
+      ->add_option("--scenario", options.flight.scenario,
+                   "1 forward flight, 2 rotational hover in wind, "
+                   "3 corner-like ground, 4 two boxes")
+      ->check(CLI::Range(1, 4));
   add_flight_options(*command, options.flight);
-  command->add_option("--out", options.out, "The MAV log to write: text (docs/mav_log.md), or an MCAP recording of its topics when it ends in .mcap")->required();
+  command
+      ->add_option(
+          "--out", options.out,
+          "The MAV log to write: text (docs/mav_log.md), or an MCAP recording of its topics when it ends in .mcap")
+      ->required();
   on_run(*command, exit_code, [] { return run_sim_mav(options); });
 }
 
 void add_eval_command(CLI::App& app, int& exit_code) {
-  auto* eval = app.add_subcommand("eval", "Evaluations against truth: MAV flights, boxes in a ground cloud, simulated rooms");
+  auto* eval =
+      app.add_subcommand("eval", "Evaluations against truth: MAV flights, boxes in a ground cloud, simulated rooms");
   eval->require_subcommand(1);
   add_eval_rooms_command(*eval, exit_code);
 
   static EvalMavOptions mav;
-  auto* flights = eval->add_subcommand("mav", "Height RMSE and box P of MAV flights through the whole pipeline "
+  auto* flights = eval->add_subcommand("mav",
+                                       "Height RMSE and box P of MAV flights through the whole pipeline "
                                        "(simulated scenarios unless --log is given)");
   flights->add_option("--log", mav.logs, "MAV logs to evaluate (text or .mcap)")->check(CLI::ExistingFile);
   flights->add_option("--scenarios", mav.scenarios, "Scenarios to simulate and evaluate")
       ->delimiter(',')
       ->check(CLI::Range(1, 4));
   add_flight_options(*flights, mav.flight);
-  flights->add_option("--out", mav.out, "Folder for each flight's clouds (PCD), height-coloured top views (PNG), heights (CSV) and the fused "
-                   "cloud's elevation grid (GeoTIFF)")
+  flights
+      ->add_option(
+          "--out", mav.out,
+          "Folder for each flight's clouds (PCD), height-coloured top views (PNG), heights (CSV) and the fused "
+          "cloud's elevation grid (GeoTIFF)")
       ->check(CLI::ExistingDirectory);
   flights->add_flag("--json", mav.json, "One JSON array, no progress");
-  flights->add_option("--config", mav.config, "A pose_estimation service config (config/services/pose_estimation.yaml) "
-                      "whose fusion settings to evaluate; default: the shipped defaults")
+  flights
+      ->add_option("--config", mav.config,
+                   "A pose_estimation service config (config/services/pose_estimation.yaml) "
+                   "whose fusion settings to evaluate; default: the shipped defaults")
       ->check(CLI::ExistingFile);
-  flights->add_flag("--no-ground", mav.no_ground,
-                    "Fuse the barometer, GPS altitude and the scan matcher's changes only, without the ground the scans see");
+  flights->add_flag(
+      "--no-ground", mav.no_ground,
+      "Fuse the barometer, GPS altitude and the scan matcher's changes only, without the ground the scans see");
   on_run(*flights, exit_code, [] { return run_eval_mav(mav); });
 
   static EvalBoxesOptions boxes;
-  auto* measure = eval->add_subcommand("boxes", "Find the two boxes in a ground cloud and score their width/length "
+  auto* measure = eval->add_subcommand("boxes",
+                                       "Find the two boxes in a ground cloud and score their width/length "
                                        "ratio (the MAV paper's E and P)");
   measure->add_option("cloud", boxes.cloud, "PCD, PLY or XYZ cloud")->required()->check(CLI::ExistingFile);
   measure->add_option("--truth", boxes.truth, "True width,length of the boxes (m)")
@@ -414,15 +449,21 @@ void add_eval_command(CLI::App& app, int& exit_code) {
   on_run(*measure, exit_code, [] { return run_eval_boxes(boxes); });
 
   static EvalGroundOptions ground;
-  auto* scoring = eval->add_subcommand("ground", "Score a map-frame ground cloud against the true ground of the simulated "
+  auto* scoring = eval->add_subcommand("ground",
+                                       "Score a map-frame ground cloud against the true ground of the simulated "
                                        "MAV flight it was built from (height error, tilt)");
-  scoring->add_option("cloud", ground.cloud, "PCD, PLY or XYZ cloud in the map frame")->required()->check(CLI::ExistingFile);
+  scoring->add_option("cloud", ground.cloud, "PCD, PLY or XYZ cloud in the map frame")
+      ->required()
+      ->check(CLI::ExistingFile);
   scoring->add_option("--log", ground.log, "The simulated MAV log (text or .mcap) whose META describes the ground")
       ->required()
       ->check(CLI::ExistingFile);
-  scoring->add_option("--unit", ground.unit, "Unit of the cloud's coordinates")->check(CLI::IsMember({"m", "cm", "mm"}));
-  scoring->add_option("--cells", ground.cells, "The points are an elevation grid's cells this wide (m, rt/cloud/elevation): "
-                      "each against the true ground averaged over its cell; cells an edge crosses are not scored")
+  scoring->add_option("--unit", ground.unit, "Unit of the cloud's coordinates")
+      ->check(CLI::IsMember({"m", "cm", "mm"}));
+  scoring
+      ->add_option("--cells", ground.cells,
+                   "The points are an elevation grid's cells this wide (m, rt/cloud/elevation): "
+                   "each against the true ground averaged over its cell; cells an edge crosses are not scored")
       ->check(CLI::PositiveNumber);
   scoring->add_flag("--json", ground.json, "One JSON object");
   on_run(*scoring, exit_code, [] { return run_eval_ground(ground); });

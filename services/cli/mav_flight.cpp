@@ -15,8 +15,8 @@
 #include "scanbus/child_process.hpp"
 #include "scanbus/clock.hpp"
 #include "scanbus/ground_evaluation/flight_evaluation.hpp"
-#include "scanbus/messages.hpp"
 #include "scanbus/mav_sim/flight.hpp"
+#include "scanbus/messages.hpp"
 #include "scanbus/point_cloud.hpp"
 #include "scanbus/service.hpp"
 
@@ -38,9 +38,9 @@ void write_configs(const std::string& dir, const sensor_replay::MavLog& log, con
                             topics::kScanMatch.name, topics::kPose.name, topics::kTf.name})
     lossless += std::string("  ") + topic + ": {reliability: reliable, depth: 1000}\n";
   const auto matcher = ground_evaluation::mav_matcher_settings();
-  std::ofstream(dir + "/scan_matcher.yaml") << lossless << "scan_matcher:\n  matcher:\n    opening: "
-                                            << matcher.opening * 180 / M_PI
-                                            << "\n    max_correspondence: " << matcher.max_correspondence << "\n";
+  std::ofstream(dir + "/scan_matcher.yaml")
+      << lossless << "scan_matcher:\n  matcher:\n    opening: " << matcher.opening * 180 / M_PI
+      << "\n    max_correspondence: " << matcher.max_correspondence << "\n";
   const auto& origin = log.meta_of("origin", 3);
   const auto& mount = log.meta_of("laser_mount", 6);
   std::ofstream pose(dir + "/pose_estimation.yaml");
@@ -50,10 +50,9 @@ void write_configs(const std::string& dir, const sensor_replay::MavLog& log, con
        << mount[3] * 180 / M_PI << ", " << mount[4] * 180 / M_PI << ", " << mount[5] * 180 / M_PI << "]\n"
        << "  max_wait: " << std::min(1.0 * rate, 10.0) << "\n";  // a second of wall time, in stamp time
   std::ofstream(dir + "/cloud_assembly.yaml") << lossless << "cloud_assembly:\n  transform_timeout: 30\n";
-  std::ofstream(dir + "/sensor_replay.yaml") << lossless << "sensor_replay:\n  log: " << log_path << "\n  rate: " << rate
-                                             << "\n  wait_for_readers: 2\n";
+  std::ofstream(dir + "/sensor_replay.yaml")
+      << lossless << "sensor_replay:\n  log: " << log_path << "\n  rate: " << rate << "\n  wait_for_readers: 2\n";
 }
-
 
 }  // namespace
 
@@ -84,7 +83,8 @@ MavFlightResult run_mav_flight(const MavFlightOptions& options) {
     if (sample.service() != "cloud_assembly") return;
     uint64_t handled = 0;
     for (const auto& counter : sample.counters())
-      if (counter.name() == "scans_assembled" || counter.name() == "scans_dropped" || counter.name() == "scans_rejected")
+      if (counter.name() == "scans_assembled" || counter.name() == "scans_dropped" ||
+          counter.name() == "scans_rejected")
         handled += counter.value();
     scans_handled = handled;
   });
@@ -100,7 +100,8 @@ MavFlightResult run_mav_flight(const MavFlightOptions& options) {
   const auto discovery_deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   while (poses.matched_writers() == 0) {
     check_services();
-    if (std::chrono::steady_clock::now() > discovery_deadline) throw std::runtime_error("pose_estimation did not appear on DDS within 20 s");
+    if (std::chrono::steady_clock::now() > discovery_deadline)
+      throw std::runtime_error("pose_estimation did not appear on DDS within 20 s");
     if (StopSignal::wait_for(std::chrono::milliseconds(20))) throw std::runtime_error("interrupted");
   }
   ChildProcess replay(own_executable(), {"run", "sensor_replay", "--config", options.work_dir + "/sensor_replay.yaml"},
@@ -110,15 +111,19 @@ MavFlightResult run_mav_flight(const MavFlightOptions& options) {
   while (true) {
     if (StopSignal::wait_for(std::chrono::milliseconds(200))) throw std::runtime_error("interrupted");
     check_services();
-    if (std::chrono::steady_clock::now() > deadline) throw std::runtime_error("the flight's replay did not end in time");
+    if (std::chrono::steady_clock::now() > deadline)
+      throw std::runtime_error("the flight's replay did not end in time");
     size_t received;
     {
       std::lock_guard<std::mutex> lock(mutex);
       received = heights.size();
     }
-    if (options.progress) std::printf("\rMAV flight: pose %zu of %zu", received, log.lasers.size()), std::fflush(stdout);
+    if (options.progress)
+      std::printf("\rMAV flight: pose %zu of %zu", received, log.lasers.size()), std::fflush(stdout);
     if (auto status = replay.exited()) {
-      if (*status != 0) throw std::runtime_error("sensor_replay exited with status " + std::to_string(*status) + " (see " + replay.log_path() + ")");
+      if (*status != 0)
+        throw std::runtime_error("sensor_replay exited with status " + std::to_string(*status) + " (see " +
+                                 replay.log_path() + ")");
       if (!ended) ended = std::chrono::steady_clock::now();
       // The last poses may still be on their way.
       if (received >= log.lasers.size() || std::chrono::steady_clock::now() - *ended > std::chrono::seconds(2)) break;
@@ -142,7 +147,8 @@ MavFlightResult run_mav_flight(const MavFlightOptions& options) {
   result.fused_rmse = ground_evaluation::height_rmse(heights, truth);
   const double origin_altitude = log.meta_of("origin", 3)[2];
   std::vector<std::pair<double, double>> barometer;
-  for (const auto& baro : log.baros) barometer.emplace_back(baro.stamp, altitude_at_pressure(baro.pressure) - origin_altitude);
+  for (const auto& baro : log.baros)
+    barometer.emplace_back(baro.stamp, altitude_at_pressure(baro.pressure) - origin_altitude);
   result.barometer_rmse = ground_evaluation::height_rmse(barometer, truth);
   for (const auto& point : from_point_cloud2(*cloud)) result.cloud.push_back(point.position);
   if (const auto box = log.meta.find("boxes"); box != log.meta.end() && box->second.size() == 3) {

@@ -17,11 +17,11 @@ namespace scanbus::cli {
 struct MavFlightOptions {
   DdsOptions dds;
   int scenario = 4;
-  double duration = 180;   // s of flight
-  double rate = 8;         // replay, times real time
-  std::string work_dir;    // the log, the configs and the processes' logs
+  double duration = 180;  // s of flight
+  double rate = 8;        // replay, times real time
+  std::string work_dir;   // the log, the configs and the processes' logs
   bool progress = false;
-  double timeout = 300;    // s
+  double timeout = 300;  // s
 };
 
 struct MavFlightResult {

@@ -53,8 +53,10 @@ int run_record(const RecordOptions& options) {
   const bool progress = !options.json && isatty(STDOUT_FILENO);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.duration);
   while (!StopSignal::wait_for(std::chrono::milliseconds(200)) && recording.failure().empty()) {
-    if (progress) std::printf("\rrecording: %lu messages, %.1f MB, %lu lost", static_cast<unsigned long>(recording.messages()),
-                              recording.bytes() / 1e6, static_cast<unsigned long>(recording.lost())), std::fflush(stdout);
+    if (progress)
+      std::printf("\rrecording: %lu messages, %.1f MB, %lu lost", static_cast<unsigned long>(recording.messages()),
+                  recording.bytes() / 1e6, static_cast<unsigned long>(recording.lost())),
+          std::fflush(stdout);
     if (options.duration > 0 && std::chrono::steady_clock::now() > deadline) break;
   }
   if (progress) std::printf("\r%60s\r", "");
@@ -66,7 +68,7 @@ int run_record(const RecordOptions& options) {
   recording.stop();
   const auto counts = recording.counts_by_topic();
   if (options.json) {
-    std::cout << nlohmann::json{{"file", options.out}, {"messages", recording.messages()},
+    std::cout << nlohmann::json{{"file", options.out},        {"messages", recording.messages()},
                                 {"bytes", recording.bytes()}, {"topics", counts},
                                 {"lost", recording.lost()},   {"lost_by_topic", recording.lost_by_topic()}}
                      .dump()
@@ -75,7 +77,8 @@ int run_record(const RecordOptions& options) {
     std::cout << options.out << ": " << recording.messages() << " messages, " << recording.lost() << " lost\n";
     const auto lost = recording.lost_by_topic();
     for (const auto& [topic, count] : counts)
-      std::cout << "  " << topic << ": " << count << (lost.count(topic) ? ", " + std::to_string(lost.at(topic)) + " lost" : "") << "\n";
+      std::cout << "  " << topic << ": " << count
+                << (lost.count(topic) ? ", " + std::to_string(lost.at(topic)) + " lost" : "") << "\n";
   }
   return 0;
 }
@@ -91,7 +94,8 @@ struct ReplayOptions {
 int run_replay(ReplayOptions options) {
   StopSignal::install();
   if (options.settings.rate > 0 && options.settings.rate < 0.001)
-    throw ConfigError("--rate: 0 (as fast as possible) or at least 0.001, got " + std::to_string(options.settings.rate));
+    throw ConfigError("--rate: 0 (as fast as possible) or at least 0.001, got " +
+                      std::to_string(options.settings.rate));
   options.settings.max_chunk = mebibytes(options.max_chunk_mib);
   if (options.start >= 0) options.settings.start = options.start;
   if (options.end >= 0) options.settings.end = options.end;
@@ -100,19 +104,24 @@ int run_replay(ReplayOptions options) {
   const bool progress = !options.json && isatty(STDOUT_FILENO);
   const auto result = recorder::replay(participant, options.settings, log, [&](uint64_t done, uint64_t total) {
     if (progress && (done % 50 == 0 || done == total))
-      std::printf("\rreplaying: message %lu of %lu", static_cast<unsigned long>(done), static_cast<unsigned long>(total)),
+      std::printf("\rreplaying: message %lu of %lu", static_cast<unsigned long>(done),
+                  static_cast<unsigned long>(total)),
           std::fflush(stdout);
   });
   if (progress) std::printf("\r%60s\r", "");
   if (options.json) {
-    std::cout << nlohmann::json{{"file", options.settings.file},   {"published", result.published},
-                                {"topics", result.published_by_topic}, {"damage", result.damage},
-                                {"stamps_skipped", result.stamps_skipped}, {"pauses", result.pauses},
+    std::cout << nlohmann::json{{"file", options.settings.file},
+                                {"published", result.published},
+                                {"topics", result.published_by_topic},
+                                {"damage", result.damage},
+                                {"stamps_skipped", result.stamps_skipped},
+                                {"pauses", result.pauses},
                                 {"span_s", result.span}}
                      .dump()
               << "\n";
   } else {
-    std::cout << options.settings.file << ": published " << result.published << " messages over " << result.span << " s\n";
+    std::cout << options.settings.file << ": published " << result.published << " messages over " << result.span
+              << " s\n";
     for (const auto& [topic, count] : result.published_by_topic) std::cout << "  " << topic << ": " << count << "\n";
     if (!result.damage.empty()) std::cout << "stopped at damage: " << result.damage << "\n";
     if (result.stamps_skipped)
@@ -147,7 +156,8 @@ int run_info(const InfoOptions& options) {
     start = summary->statistics->message_start_time;
     end = summary->statistics->message_end_time;
     chunks = summary->chunks.size();
-    for (const auto& chunk : summary->chunks) compressions.insert(chunk.compression.empty() ? "none" : chunk.compression);
+    for (const auto& chunk : summary->chunks)
+      compressions.insert(chunk.compression.empty() ? "none" : chunk.compression);
   } else {
     damage = reader.read_messages(
         [&](const recorder::McapMessage& message, const recorder::McapChannel&) {
@@ -170,12 +180,18 @@ int run_info(const InfoOptions& options) {
                       {"messages", counts.count(id) ? counts.at(id) : 0}});
   }
   if (options.json) {
-    std::cout << nlohmann::json{{"file", options.file},      {"bytes", reader.file_size()},
-                                {"profile", reader.profile()}, {"library", reader.library()},
-                                {"messages", messages},      {"start_ns", start},
-                                {"end_ns", end},             {"duration_s", duration},
-                                {"chunks", chunks},          {"compression", compressions},
-                                {"topics", topics},          {"damage", damage}}
+    std::cout << nlohmann::json{{"file", options.file},
+                                {"bytes", reader.file_size()},
+                                {"profile", reader.profile()},
+                                {"library", reader.library()},
+                                {"messages", messages},
+                                {"start_ns", start},
+                                {"end_ns", end},
+                                {"duration_s", duration},
+                                {"chunks", chunks},
+                                {"compression", compressions},
+                                {"topics", topics},
+                                {"damage", damage}}
                      .dump()
               << "\n";
     return 0;
@@ -217,7 +233,8 @@ int input_errors_exit_2(const char* name, const std::function<int()>& body) {
 void add_record_commands(CLI::App& app, int& exit_code) {
   static RecordOptions record;
   auto* command = app.add_subcommand("record", "Record topics to an MCAP file (ros2 profile) until Ctrl-C");
-  command->add_option("--topics", record.topics, "Topics, DDS (rt/scan) or ROS (/scan) names (default: every catalogue topic)");
+  command->add_option("--topics", record.topics,
+                      "Topics, DDS (rt/scan) or ROS (/scan) names (default: every catalogue topic)");
   command->add_option("-o,--out", record.out, "MCAP file to write")->required();
   command->add_option("--compression", record.compression, "Chunk compression")
       ->check(CLI::IsMember({"zstd", "lz4", "none"}));
@@ -225,7 +242,7 @@ void add_record_commands(CLI::App& app, int& exit_code) {
   command->add_option("--duration", record.duration, "Stop after this many seconds (0: at Ctrl-C or SIGTERM)")
       ->check(CLI::NonNegativeNumber);
   command->add_flag("--reliable", record.reliable,
-                   "Read every topic RELIABLE (default: as the catalogue; sensor topics are best effort)");
+                    "Read every topic RELIABLE (default: as the catalogue; sensor topics are best effort)");
   command->add_option("--queue-size", record.queue_size, "MiB of samples waiting for the file before readers block")
       ->check(CLI::Range(0.001, 65536.0));
   command->add_flag("--json", record.json, "One JSON summary line, no progress");
@@ -239,11 +256,13 @@ void add_record_commands(CLI::App& app, int& exit_code) {
       ->check(CLI::NonNegativeNumber);
   command->add_flag("--loop", replay.settings.loop, "Start again at the end, until Ctrl-C");
   command->add_option("--topics", replay.settings.topics, "Only these topics (DDS or ROS names)");
-  command->add_option("--start", replay.start, "Seconds after the first message to start at")->check(CLI::NonNegativeNumber);
+  command->add_option("--start", replay.start, "Seconds after the first message to start at")
+      ->check(CLI::NonNegativeNumber);
   command->add_option("--end", replay.end, "Seconds after the first message to stop at")->check(CLI::NonNegativeNumber);
   command->add_flag("--salvage", replay.settings.salvage, "Replay what precedes damage instead of refusing the file");
-  command->add_option("--max-gap", replay.settings.max_gap,
-                      "Seconds a stamp may jump from the previous message's: one alone is skipped, a pause not waited")
+  command
+      ->add_option("--max-gap", replay.settings.max_gap,
+                   "Seconds a stamp may jump from the previous message's: one alone is skipped, a pause not waited")
       ->check(CLI::PositiveNumber);
   add_max_chunk(command, replay.max_chunk_mib);
   command->add_option("--wait-for-readers", replay.settings.wait_for_readers,

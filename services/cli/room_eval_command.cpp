@@ -71,7 +71,8 @@ nlohmann::json summary_json(const room_evaluation::SweepSummary& s) {
 
 nlohmann::json case_json(const room_evaluation::RoomCase& c) {
   nlohmann::json walls = nlohmann::json::array();
-  for (const auto& w : c.walls) walls.push_back({{"true_m", w.true_length}, {"measured_m", w.length}, {"sigma_m", w.sigma}});
+  for (const auto& w : c.walls)
+    walls.push_back({{"true_m", w.true_length}, {"measured_m", w.length}, {"sigma_m", w.sigma}});
   nlohmann::json openings = nlohmann::json::array();
   for (const auto& o : c.openings)
     openings.push_back({{"true_m", {o.true_from, o.true_to}}, {"found", o.found}, {"measured_m", {o.from, o.to}}});
@@ -102,25 +103,30 @@ void print_table(const std::vector<room_evaluation::SweepSummary>& summaries) {
               "target", "infer", "wrong", ">2cm", "refused", "median_m", "p95_m", "max_m", "area_max", "1sig", "2sig");
   for (const auto& s : summaries)
     std::printf("%-15s %5zu %5zu %5zu %6zu %5zu %5zu %5zu %3zu/%-3zu %9.4f %9.4f %9.4f %7.2f%% %5.0f%% %5.0f%%\n",
-                s.category.c_str(), s.rooms, s.measurable, s.measured, s.within_target, s.inferred, s.wrong, s.ok_over_2cm,
-                s.refused, s.refused_wrongly, s.median_wall_error, s.p95_wall_error, s.max_wall_error,
+                s.category.c_str(), s.rooms, s.measurable, s.measured, s.within_target, s.inferred, s.wrong,
+                s.ok_over_2cm, s.refused, s.refused_wrongly, s.median_wall_error, s.p95_wall_error, s.max_wall_error,
                 100 * s.max_area_error, 100 * s.within_1_sigma, 100 * s.within_2_sigma);
-  std::printf("seen: every wall in view; ok: measured with the right walls, all seen; target: every wall within 1 cm and the "
-              "area within 0.5 %%;\ninfer: right walls, some not seen but inferred (errors and sigmas counted); >2cm: ok with a wall more than 2 cm off or wrong walls; refused: right/wrongly "
-              "(a room in view); errors over matched walls; 1sig/2sig: walls within 1 and 2 sigma\n");
+  std::printf(
+      "seen: every wall in view; ok: measured with the right walls, all seen; target: every wall within 1 cm and the "
+      "area within 0.5 %%;\ninfer: right walls, some not seen but inferred (errors and sigmas counted); >2cm: ok with "
+      "a wall more than 2 cm off or wrong walls; refused: right/wrongly "
+      "(a room in view); errors over matched walls; 1sig/2sig: walls within 1 and 2 sigma\n");
   std::printf("\n%-15s %7s %10s %9s %6s %6s\n", "corners", "corners", "median_m", "max_m", "1sig", "2sig");
   for (const auto& s : summaries)
     if (s.corners > 0)
       std::printf("%-15s %7zu %10.4f %9.4f %5.0f%% %5.0f%%\n", s.category.c_str(), s.corners, s.median_corner_error,
                   s.max_corner_error, 100 * s.corners_within_1_sigma, 100 * s.corners_within_2_sigma);
-  std::printf("distance of each corner of a measured or inferred room from the true one; 1sig/2sig: within 1 and 2 of its sigmas\n");
+  std::printf(
+      "distance of each corner of a measured or inferred room from the true one; 1sig/2sig: within 1 and 2 of its "
+      "sigmas\n");
   std::printf("\n%-15s %11s %9s %15s %12s\n", "openings", "found/true", "spurious", "median_edge_m", "max_edge_m");
   for (const auto& s : summaries)
     if (s.true_openings + s.spurious_openings > 0)
       std::printf("%-15s %5zu/%-5zu %9zu %15.3f %12.3f\n", s.category.c_str(), s.openings_found, s.true_openings,
                   s.spurious_openings, s.median_opening_error, s.max_opening_error);
-  std::printf("on the walls of rooms measured or inferred; found: a measured opening covers at least half of the true one; "
-              "edge: the farther of its two ends from the true one's\n");
+  std::printf(
+      "on the walls of rooms measured or inferred; found: a measured opening covers at least half of the true one; "
+      "edge: the farther of its two ends from the true one's\n");
 }
 
 int run_eval_rooms(const EvalRoomsOptions& options) {
@@ -161,7 +167,8 @@ int run_eval_rooms(const EvalRoomsOptions& options) {
 
 void add_eval_rooms_command(CLI::App& eval, int& exit_code) {
   static EvalRoomsOptions options;
-  auto* rooms = eval.add_subcommand("rooms", "Room measurement on a seeded sweep of simulated rooms (doors, windows, "
+  auto* rooms = eval.add_subcommand("rooms",
+                                    "Room measurement on a seeded sweep of simulated rooms (doors, windows, "
                                     "alcoves, L and T shapes, angled walls, furniture, closets), scanned through the "
                                     "firmware simulator with a device's imperfections; no DDS");
   rooms->add_option("--count", options.sweep.count, "Rooms, spread over the categories")->check(CLI::Range(1, 100000));
@@ -169,9 +176,13 @@ void add_eval_rooms_command(CLI::App& eval, int& exit_code) {
   rooms->add_option("--threads", options.sweep.threads, "Worker threads (0: one per core)")->check(CLI::Range(0, 256));
   rooms->add_flag("--ideal-device", options.sweep.ideal_device,
                   "Scan with the ideal device of the thesis's equations (2 cm noise, no imperfections)");
-  rooms->add_option("--out", options.out, "Folder (made if missing) for each room's scan (PCD) and floor plan (PNG, DXF)")
+  rooms
+      ->add_option("--out", options.out,
+                   "Folder (made if missing) for each room's scan (PCD) and floor plan (PNG, DXF)")
       ->each([](const std::string&) { options.sweep.keep_clouds = true; });
-  rooms->add_option("--config", options.config, "YAML with a room_measurement section to evaluate (defaults: the shipped ones)")
+  rooms
+      ->add_option("--config", options.config,
+                   "YAML with a room_measurement section to evaluate (defaults: the shipped ones)")
       ->check(CLI::ExistingFile);
   rooms->add_flag("--cases", options.cases, "Also print a line for every room");
   rooms->add_flag("--json", options.json, "One JSON object (summary and every room), no progress");

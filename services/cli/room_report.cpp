@@ -12,7 +12,8 @@ nlohmann::json room_json(const RoomResult& room) {
   nlohmann::json walls = nlohmann::json::array();
   for (const auto& wall : room.walls) {
     nlohmann::json openings = nlohmann::json::array();
-    for (const auto& o : wall.openings) openings.push_back({{"start_m", o.start}, {"width_m", o.width}, {"depth_m", o.depth}});
+    for (const auto& o : wall.openings)
+      openings.push_back({{"start_m", o.start}, {"width_m", o.width}, {"depth_m", o.depth}});
     walls.push_back({{"length_m", wall.length},
                      {"inferred", wall.inferred()},
                      {"length_sigma_m", wall.length_sigma},
@@ -68,7 +69,8 @@ std::string room_text(const RoomResult& room) {
   for (size_t i = 0; i < room.walls.size(); ++i) {
     const auto& wall = room.walls[i];
     if (wall.inferred()) {
-      std::snprintf(line, sizeof(line), "wall %zu: %.3f m (+-%.3f, not seen: inferred perpendicular between its neighbours", i + 1,
+      std::snprintf(line, sizeof(line),
+                    "wall %zu: %.3f m (+-%.3f, not seen: inferred perpendicular between its neighbours", i + 1,
                     wall.length, wall.length_sigma);
     } else {
       std::snprintf(line, sizeof(line), "wall %zu: %.3f m (+-%.3f, rms %.3f m, %zu points", i + 1, wall.length,

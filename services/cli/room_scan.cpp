@@ -46,7 +46,8 @@ RoomScanResult run_room_scan(const RoomScanOptions& options) {
       participant, topics::kScannerCloud, QosSettings{true, false, false, 50}, [&](const auto&, const auto&) {
         std::lock_guard<std::mutex> lock(mutex);
         ++result.revolutions;
-        if (options.progress) std::printf("\rscanning: revolution %u of %u", result.revolutions, total_revolutions), std::fflush(stdout);
+        if (options.progress)
+          std::printf("\rscanning: revolution %u of %u", result.revolutions, total_revolutions), std::fflush(stdout);
       });
   Reader<sensor_msgs::msg::PointCloud2PubSubType> scan_reader(
       participant, topics::kScannerScanCloud, [&](const auto& cloud, const auto&) {
@@ -55,16 +56,18 @@ RoomScanResult run_room_scan(const RoomScanOptions& options) {
         result.points.insert(result.points.end(), points.begin(), points.end());
         ++scans;
       });
-  Reader<scanbus::msg::RoomMeasurementPubSubType> room_reader(
-      participant, topics::kRoomMeasurement, [&](const auto& room, const auto&) {
-        std::lock_guard<std::mutex> lock(mutex);
-        result.room = room;
-      });
+  Reader<scanbus::msg::RoomMeasurementPubSubType> room_reader(participant, topics::kRoomMeasurement,
+                                                              [&](const auto& room, const auto&) {
+                                                                std::lock_guard<std::mutex> lock(mutex);
+                                                                result.room = room;
+                                                              });
 
-  ChildProcess scanner_io(own_executable(), {"run", "scanner_io", "--config", config}, options.work_dir + "/scanner_io.log");
+  ChildProcess scanner_io(own_executable(), {"run", "scanner_io", "--config", config},
+                          options.work_dir + "/scanner_io.log");
   std::optional<ChildProcess> room_measurement;
   if (options.measure)
-    room_measurement.emplace(own_executable(), std::vector<std::string>{"run", "room_measurement", "--config", room_config},
+    room_measurement.emplace(own_executable(),
+                             std::vector<std::string>{"run", "room_measurement", "--config", room_config},
                              options.work_dir + "/room_measurement.log");
   // Power the device on only once we hear the services: a revolution published before
   // discovery completes would never reach our (volatile) reader.
@@ -73,7 +76,8 @@ RoomScanResult run_room_scan(const RoomScanOptions& options) {
          (options.measure && room_reader.matched_writers() == 0)) {
     scanner_io.expect_running();
     if (room_measurement) room_measurement->expect_running();
-    if (std::chrono::steady_clock::now() > discovery_deadline) throw std::runtime_error("the services did not appear on DDS within 20 s");
+    if (std::chrono::steady_clock::now() > discovery_deadline)
+      throw std::runtime_error("the services did not appear on DDS within 20 s");
     if (StopSignal::wait_for(std::chrono::milliseconds(20))) throw std::runtime_error("interrupted");
   }
   std::vector<std::string> sim = {"sim", "scanner", "--link", link, "--speed", std::to_string(options.speed)};

@@ -15,14 +15,14 @@ namespace scanbus::cli {
 
 struct RoomScanOptions {
   DdsOptions dds;
-  std::string room_file;   // empty: the simulator's built-in room
+  std::string room_file;  // empty: the simulator's built-in room
   double speed = 1.0;
   int resolution = 1;
-  std::string work_dir;    // logs and the pty link go here
-  bool progress = false;   // a line of progress on the terminal
-  double timeout = 600;    // s
-  int scans = 1;           // whole scans in a row (each next one interleaves its pitch, eq. 4.9)
-  bool measure = false;    // also run room_measurement and wait for its RoomMeasurement
+  std::string work_dir;   // logs and the pty link go here
+  bool progress = false;  // a line of progress on the terminal
+  double timeout = 600;   // s
+  int scans = 1;          // whole scans in a row (each next one interleaves its pitch, eq. 4.9)
+  bool measure = false;   // also run room_measurement and wait for its RoomMeasurement
 };
 
 struct RoomScanResult {

@@ -26,7 +26,9 @@ int run_scan(ScanOptions options) {
   const RoomScanResult result = run_room_scan(options.scan);
   cloud_io::write_pcd(options.out, result.points);
   if (options.json) {
-    std::cout << nlohmann::json{{"points", result.points.size()}, {"revolutions", result.revolutions}, {"file", options.out}}
+    std::cout << nlohmann::json{{"points", result.points.size()},
+                                {"revolutions", result.revolutions},
+                                {"file", options.out}}
               << "\n";
   } else {
     std::cout << "scan: " << result.points.size() << " points from " << result.revolutions << " revolutions, wrote "

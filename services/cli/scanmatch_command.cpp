@@ -63,10 +63,11 @@ void print_scores(const std::vector<double>& stamps, const std::vector<Pose2>& p
                   {"rotational_error_deg", stats_json(all.rotational, 180 / M_PI)},
                   {"relations", all.translational.count},
                   {"relations_missing", all.missing},
-                  {"short_relations", {{"max_span_s", max_span},
-                                       {"relations", short_span.translational.count},
-                                       {"translational_error_m", stats_json(short_span.translational, 1)},
-                                       {"rotational_error_deg", stats_json(short_span.rotational, 180 / M_PI)}}}});
+                  {"short_relations",
+                   {{"max_span_s", max_span},
+                    {"relations", short_span.translational.count},
+                    {"translational_error_m", stats_json(short_span.translational, 1)},
+                    {"rotational_error_deg", stats_json(short_span.rotational, 180 / M_PI)}}}});
     std::cout << extra << "\n";
     return;
   }
@@ -123,7 +124,9 @@ int run_eval(const EvalOptions& options) {
   if (!options.trajectory.empty()) write_trajectory(options.trajectory, stamps, poses);
   const double rate = static_cast<double>(records.size()) / std::max(matching_seconds, 1e-9);
   print_scores(stamps, poses, relations, options.max_span, options.json,
-               {{"scans", records.size()}, {"failed_matches", failed}, {"odometry_guess", options.odometry_guess},
+               {{"scans", records.size()},
+                {"failed_matches", failed},
+                {"odometry_guess", options.odometry_guess},
                 {"scans_per_second", rate}});
   if (!options.json)
     std::printf("%zu scans, %zu failed matches, %.0f scans per second%s\n", records.size(), failed, rate,
@@ -183,10 +186,9 @@ int run_convert(const ConvertOptions& options) {
   return 0;
 }
 
-
 struct BacktransformOptions {
   std::string log, config, out;
-  long row = -1;           // the pair (row, row + 1); -1 with --all
+  long row = -1;  // the pair (row, row + 1); -1 with --all
   bool all = false, json = false;
   double max_median = 0.03;  // m: a pair whose median residual is larger is suspect (on the MIT
                              // CSAIL log 99 % of pairs stay under it; new surfaces and clutter
@@ -210,8 +212,8 @@ double percentile(std::vector<double> values, double share) {
 
 // Algorithm 3.1 of the MAV paper: match scan row+1 to scan row, carry it back by the
 // increment, and measure how well it lies on scan row.
-PairCheck check_pair(const ScanMatcher& matcher, const std::vector<LaserRecord>& records, size_t row,
-                     double max_median, std::vector<Eigen::Vector2d>* reference_out = nullptr,
+PairCheck check_pair(const ScanMatcher& matcher, const std::vector<LaserRecord>& records, size_t row, double max_median,
+                     std::vector<Eigen::Vector2d>* reference_out = nullptr,
                      std::vector<Eigen::Vector2d>* moved_out = nullptr) {
   const auto& a = records[row];
   const auto& b = records[row + 1];
@@ -266,15 +268,15 @@ int run_backtransform(const BacktransformOptions& options) {
     return 2;
   }
   if (!options.all && (options.row < 0 || static_cast<size_t>(options.row) + 1 >= records.size())) {
-    std::cerr << "scanbus scanmatch backtransform: --row " << options.row << " is not a scan with a successor: "
-              << options.log << " has scans 0 to " << records.size() - 1 << "\n";
+    std::cerr << "scanbus scanmatch backtransform: --row " << options.row
+              << " is not a scan with a successor: " << options.log << " has scans 0 to " << records.size() - 1 << "\n";
     return 2;
   }
   const ScanMatcher matcher(settings);
   if (!options.all) {
     std::vector<Eigen::Vector2d> reference, moved;
-    const PairCheck check = check_pair(matcher, records, static_cast<size_t>(options.row), options.max_median,
-                                       &reference, &moved);
+    const PairCheck check =
+        check_pair(matcher, records, static_cast<size_t>(options.row), options.max_median, &reference, &moved);
     if (!options.out.empty()) {
       char title[96];
       std::snprintf(title, sizeof(title), "BacktransformLaserScan: scan %zu+1 onto scan %zu", check.row, check.row);
@@ -319,7 +321,8 @@ void add_scanmatch_command(CLI::App& app, int& exit_code) {
   auto* scanmatch = app.add_subcommand("scanmatch", "Laser scan matching (PL-ICP)");
   scanmatch->require_subcommand(1);
   auto* eval = scanmatch->add_subcommand("eval", "Match a CARMEN log's scans and score them against relations");
-  eval->add_option("--log", options.log, "CARMEN log (FLASER or ROBOTLASER1 lines), or an MCAP recording of /scan")->required();
+  eval->add_option("--log", options.log, "CARMEN log (FLASER or ROBOTLASER1 lines), or an MCAP recording of /scan")
+      ->required();
   eval->add_option("--relations", options.relations, "Relations file (t1 t2 x y z roll pitch yaw)")->required();
   eval->add_option("--config", options.config, "Service file with a scan_matcher.matcher section (default: built-in)");
   eval->add_option("--trajectory", options.trajectory, "Write the matched poses, one 'stamp x y theta' line per scan");
@@ -346,7 +349,9 @@ void add_scanmatch_command(CLI::App& app, int& exit_code) {
   static BacktransformOptions back;
   auto* backtransform = scanmatch->add_subcommand(
       "backtransform", "BacktransformLaserScan: carry scan N+1 back onto scan N by the match and measure the fit");
-  backtransform->add_option("--log", back.log, "CARMEN log (FLASER or ROBOTLASER1 lines), or an MCAP recording of /scan")->required();
+  backtransform
+      ->add_option("--log", back.log, "CARMEN log (FLASER or ROBOTLASER1 lines), or an MCAP recording of /scan")
+      ->required();
   auto* row = backtransform->add_option("--row", back.row, "The pair (N, N+1), scans counted from 0");
   auto* all = backtransform->add_flag("--all", back.all, "Check every consecutive pair; list the suspect ones");
   row->excludes(all);

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <cstdio>
 
+#include "scanbus/room_evaluation/simulated_scan.hpp"
 #include "scanbus/room_measurement/room_measurement.hpp"
 #include "scanbus/sim/room_file.hpp"
-#include "scanbus/room_evaluation/simulated_scan.hpp"
 
 using namespace scanbus;
 
@@ -28,8 +28,8 @@ void expect_accurate(const std::string& name) {
   const auto truth = model.wall_lengths();
   for (const auto& wall : result.walls) {
     // The model wall this measured wall lies on: its midpoint's nearest model wall.
-    const Eigen::Vector2d mid_scanner = wall.line.normal * wall.line.offset +
-                                        wall.line.direction() * (wall.line.start + wall.line.end) / 2;
+    const Eigen::Vector2d mid_scanner =
+        wall.line.normal * wall.line.offset + wall.line.direction() * (wall.line.start + wall.line.end) / 2;
     const Eigen::Vector3d mid = model.to_room(Eigen::Vector3d(mid_scanner.x(), mid_scanner.y(), 0));
     size_t best = 0;
     double best_distance = 1e9;

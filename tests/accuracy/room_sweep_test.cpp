@@ -13,15 +13,17 @@ using namespace scanbus;
 
 TEST(RoomSweep, WhatHoldsOnTheSweep) {
   room_evaluation::SweepOptions options;
-  options.threads = 1;  // ctest -j2 runs timing-sensitive service tests beside it (cli_demo lost poses under the sanitizers)
+  options.threads =
+      1;  // ctest -j2 runs timing-sensitive service tests beside it (cli_demo lost poses under the sanitizers)
   const auto cases = room_evaluation::evaluate_sweep(options, room_measurement::RoomSettings{});
   ASSERT_EQ(cases.size(), 120u);
   for (const auto& s : room_evaluation::summarize(cases)) {
-    std::printf("%-15s rooms %zu seen %zu measured %zu inferred %zu wrong %zu refused %zu/%zu median %.4f p95 %.4f max %.4f m, "
-                "%.0f %% within 1 sigma, %.0f %% within 2, openings %zu/%zu (%zu spurious, median edge %.3f m)\n",
-                s.category.c_str(), s.rooms, s.measurable, s.measured, s.inferred, s.wrong, s.refused, s.refused_wrongly,
-                s.median_wall_error, s.p95_wall_error, s.max_wall_error, 100 * s.within_1_sigma, 100 * s.within_2_sigma,
-                s.openings_found, s.true_openings, s.spurious_openings, s.median_opening_error);
+    std::printf(
+        "%-15s rooms %zu seen %zu measured %zu inferred %zu wrong %zu refused %zu/%zu median %.4f p95 %.4f max %.4f m, "
+        "%.0f %% within 1 sigma, %.0f %% within 2, openings %zu/%zu (%zu spurious, median edge %.3f m)\n",
+        s.category.c_str(), s.rooms, s.measurable, s.measured, s.inferred, s.wrong, s.refused, s.refused_wrongly,
+        s.median_wall_error, s.p95_wall_error, s.max_wall_error, 100 * s.within_1_sigma, 100 * s.within_2_sigma,
+        s.openings_found, s.true_openings, s.spurious_openings, s.median_opening_error);
     // Closed rooms, rooms with windows or angled walls, a scanner in a corner: every one measured.
     // Closets too: a door whose lintel is above the view is an opening, not the way out.
     if (s.category == "box" || s.category == "windows" || s.category == "angled" || s.category == "near_wall" ||

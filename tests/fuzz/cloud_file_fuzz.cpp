@@ -1,7 +1,7 @@
 // Cloud files as `scanbus eval boxes` and `scanbus cloud render` read them: the first byte
 // picks PCD, PLY or XYZ text (by the extension, as read_cloud does), the rest is the file.
-#include "scanbus/cloud_io/cloud_files.hpp"
 #include "fuzz_input.hpp"
+#include "scanbus/cloud_io/cloud_files.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size == 0) return 0;

@@ -15,7 +15,8 @@ namespace scanbus::fuzz {
 class InputFile {
  public:
   InputFile(const uint8_t* data, size_t size, const std::string& extension) {
-    const char* folder = access("/dev/shm", W_OK) == 0 ? "/dev/shm" : (std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp");
+    const char* folder =
+        access("/dev/shm", W_OK) == 0 ? "/dev/shm" : (std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp");
     path_ = std::string(folder) + "/scanbus_fuzz_" + std::to_string(getpid()) + "." + extension;
     std::FILE* file = std::fopen(path_.c_str(), "wb");
     if (!file || std::fwrite(data, 1, size, file) != size || std::fclose(file) != 0) std::abort();

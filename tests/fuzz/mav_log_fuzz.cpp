@@ -2,8 +2,8 @@
 // the records put in time order and paced as the replay does (every due time a number the
 // clock can hold, every record published or skipped once), and the true ground a simulated
 // log carries (META scenario, boxes, terrain_*) rebuilt and sampled as `scanbus eval mav` does.
-#include "fuzz_input.hpp"
 #include <cstdlib>
+#include "fuzz_input.hpp"
 
 #include "scanbus/mav_sim/flight.hpp"
 #include "scanbus/replay_pacer.hpp"
@@ -18,7 +18,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     size_t published = 0, held = 0;
     for (const auto& record : records) {
       const auto step = pacer.next(record.stamp);
-      if (static_cast<size_t>(step.publish_held + step.skip_held) != held) std::abort();  // a held record is settled once
+      if (static_cast<size_t>(step.publish_held + step.skip_held) != held)
+        std::abort();  // a held record is settled once
       published += step.publish_held;
       held = step.hold;
       if (!step.hold && !(step.due >= 0 && step.due <= 1e9)) std::abort();

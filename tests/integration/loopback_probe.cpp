@@ -128,8 +128,8 @@ class Sender : public Service {
       return 1;
     }
     const auto cloud = make_cloud(points_);
-    const bool written = scan_.write(make_scan()) && cloud_.write(cloud) && room_.write(make_room()) &&
-                         tf_.write(make_tf());
+    const bool written =
+        scan_.write(make_scan()) && cloud_.write(cloud) && room_.write(make_room()) && tf_.write(make_tf());
     sent_ += 4;
     log_->info("wrote 4 samples, cloud of {} points ({} bytes)", points_, cloud.data().size());
     if (!written) return 1;
@@ -155,13 +155,21 @@ class Receiver : public Service {
         points_(static_cast<uint32_t>(context.config.section("probe").integer("points", 1000000, 1, 10000000))),
         timeout_(context.config.section("probe").number("timeout", 60.0, 1.0, 600.0)),
         scan_(context.participant, topics::kScan, QosSettings{true, false, false, 10},
-              [this](const auto& s, const auto&) { check("LaserScan", same_bytes<sensor_msgs::msg::LaserScanPubSubType>(s, make_scan())); }),
+              [this](const auto& s, const auto&) {
+                check("LaserScan", same_bytes<sensor_msgs::msg::LaserScanPubSubType>(s, make_scan()));
+              }),
         cloud_(context.participant, topics::kScannerCloud,
-               [this](const auto& s, const auto&) { check("PointCloud2", same_bytes<sensor_msgs::msg::PointCloud2PubSubType>(s, make_cloud(points_))); }),
+               [this](const auto& s, const auto&) {
+                 check("PointCloud2", same_bytes<sensor_msgs::msg::PointCloud2PubSubType>(s, make_cloud(points_)));
+               }),
         room_(context.participant, topics::kRoomMeasurement,
-              [this](const auto& s, const auto&) { check("RoomMeasurement", same_bytes<scanbus::msg::RoomMeasurementPubSubType>(s, make_room())); }),
+              [this](const auto& s, const auto&) {
+                check("RoomMeasurement", same_bytes<scanbus::msg::RoomMeasurementPubSubType>(s, make_room()));
+              }),
         tf_(context.participant, topics::kTf,
-            [this](const auto& s, const auto&) { check("TFMessage", same_bytes<tf2_msgs::msg::TFMessagePubSubType>(s, make_tf())); }),
+            [this](const auto& s, const auto&) {
+              check("TFMessage", same_bytes<tf2_msgs::msg::TFMessagePubSubType>(s, make_tf()));
+            }),
         health_(context.participant, topics::kHealth, [this](const auto& s, const auto&) {
           if (s.service() == "probe_sender") check("Health", true);
         }) {}
@@ -205,9 +213,11 @@ class Receiver : public Service {
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "";
   if (mode == "send")
-    return service_main("probe_sender", argc - 1, argv + 1, [](ServiceContext& c) { return std::make_unique<Sender>(c); });
+    return service_main("probe_sender", argc - 1, argv + 1,
+                        [](ServiceContext& c) { return std::make_unique<Sender>(c); });
   if (mode == "receive")
-    return service_main("probe_receiver", argc - 1, argv + 1, [](ServiceContext& c) { return std::make_unique<Receiver>(c); });
+    return service_main("probe_receiver", argc - 1, argv + 1,
+                        [](ServiceContext& c) { return std::make_unique<Receiver>(c); });
   std::cerr << "usage: loopback_probe send|receive [--config FILE]\n";
   return 2;
 }

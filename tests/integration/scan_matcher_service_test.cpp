@@ -138,7 +138,9 @@ TEST(ScanMatcherService, CountsTheScansABurstLost) {
   laser.angle_increment = M_PI / 1080;
   const Pose2 pose{-1.5, -0.5, 0.2};
   uint64_t written = 0;
-  auto write_scan = [&] { ASSERT_TRUE(scans.write(laser_scan(room.scan(pose, laser, random), 100.0 + 0.01 * written++))); };
+  auto write_scan = [&] {
+    ASSERT_TRUE(scans.write(laser_scan(room.scan(pose, laser, random), 100.0 + 0.01 * written++)));
+  };
   // The service's reader may match our writer later than ours matched it, and a writer's
   // losses count from its first sample that arrives: single scans until one was matched,
   // then a quiet 2.5 s (Health comes every second) for the count of those written before.

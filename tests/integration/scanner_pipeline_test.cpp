@@ -93,12 +93,13 @@ class ScannerPipeline : public ::testing::Test {
     observer_ = std::make_unique<ScannerObserver>(domain);
   }
 
-  std::unique_ptr<ChildProcess> start_scanner_io(const std::string& extra,
-                                                const std::string& reconnect = "  reconnect_min: 0.05\n  reconnect_max: 0.5\n") {
+  std::unique_ptr<ChildProcess> start_scanner_io(
+      const std::string& extra, const std::string& reconnect = "  reconnect_min: 0.05\n  reconnect_max: 0.5\n") {
     const std::string config = work_ + "/scanner_io.yaml";
-    std::ofstream(config) << "service:\n  health_period: 0.2\nscanner_io:\n  port: " << link_ << "\n" << reconnect << extra;
-    return std::make_unique<ChildProcess>(SCANBUS_CLI, std::vector<std::string>{"run", "scanner_io", "--config", config},
-                                          work_ + "/scanner_io.log");
+    std::ofstream(config) << "service:\n  health_period: 0.2\nscanner_io:\n  port: " << link_ << "\n"
+                          << reconnect << extra;
+    return std::make_unique<ChildProcess>(
+        SCANBUS_CLI, std::vector<std::string>{"run", "scanner_io", "--config", config}, work_ + "/scanner_io.log");
   }
 
   // Until then, what scanner_io publishes would not reach our volatile readers.
@@ -233,17 +234,20 @@ TEST_F(ScannerPipeline, DamagedStreamIsCountedNeverFatal) {
   use_domain(73);
   sim::PtyDevice device(link_);
   std::string stream = framed("H scanbus-scanner 1 0.1.0");
-  for (int line = 0; line < 10; ++line) stream += framed("M " + std::to_string(line) + " " + std::to_string(line * 300) + " 4200 250 100");
-  stream += "\x01\xff###garbage\n";                       // noise on the line
+  for (int line = 0; line < 10; ++line)
+    stream += framed("M " + std::to_string(line) + " " + std::to_string(line * 300) + " 4200 250 100");
+  stream += "\x01\xff###garbage\n";                                // noise on the line
   stream += framed("M 10 3000 4200 250 100").substr(0, 9) + "\n";  // truncated: line 10 lost
   std::string corrupted = framed("M 11 3300 4200 250 100");
-  corrupted[5] = '9';                                      // bit error: line 11 lost
+  corrupted[5] = '9';  // bit error: line 11 lost
   stream += corrupted;
-  stream += std::string(600, 'Z') + "\n";                  // runaway line without an end
-  for (int line = 12; line < 20; ++line) stream += framed("M " + std::to_string(line) + " " + std::to_string(line * 300) + " 4200 250 100");
+  stream += std::string(600, 'Z') + "\n";  // runaway line without an end
+  for (int line = 12; line < 20; ++line)
+    stream += framed("M " + std::to_string(line) + " " + std::to_string(line * 300) + " 4200 250 100");
   stream += framed("L 0 4200");
   for (int line = 20; line < 30; ++line)
-    stream += framed("M " + std::to_string(line) + " " + std::to_string(line * 300) + " 4500 " + (line < 22 ? "1" : "250") + " 100");
+    stream += framed("M " + std::to_string(line) + " " + std::to_string(line * 300) + " 4500 " +
+                     (line < 22 ? "1" : "250") + " 100");
   stream += framed("L 1 4500") + framed("D 0 2");
   write_all(device, stream);
   auto scanner_io = start_scanner_io("  autostart: false\n");

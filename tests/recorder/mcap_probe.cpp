@@ -17,8 +17,8 @@
 
 #include "cdr.hpp"
 #include "raw_endpoints.hpp"
-#include "scanbus/messages.hpp"
 #include "scanbus/clock.hpp"
+#include "scanbus/messages.hpp"
 #include "scanbus/recorder/mcap_writer.hpp"
 #include "scanbus/recorder/ros2msg.hpp"
 #include "scanbus/service.hpp"
@@ -84,13 +84,15 @@ void publish_type(Participant& participant, const TopicInfo& info, uint32_t coun
   recorder::RawWriter writer(participant, info.name, info.type, writer_qos(lossless(info)));
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   while (writer.matched_readers() == 0) {
-    if (std::chrono::steady_clock::now() > deadline) throw std::runtime_error(info.name + ": no reader matched within 20 s");
+    if (std::chrono::steady_clock::now() > deadline)
+      throw std::runtime_error(info.name + ": no reader matched within 20 s");
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   for (uint32_t i = 0; i < count; ++i) {
     const recorder::RawSample bytes = recorder::to_cdr<PubSubType>(known_sample<typename PubSubType::type>(i));
     expected << info.name << " " << hex(bytes.data(), bytes.size()) << "\n";
-    if (writer.write(bytes) != recorder::RawWriter::Result::Written) throw std::runtime_error(info.name + ": write refused");
+    if (writer.write(bytes) != recorder::RawWriter::Result::Written)
+      throw std::runtime_error(info.name + ": write refused");
   }
   if (!writer.wait_for_acknowledgments(std::chrono::seconds(20)))
     throw std::runtime_error(info.name + ": not acknowledged within 20 s");
@@ -117,11 +119,12 @@ int receive(const std::string& expected_path, double seconds) {
   std::map<std::string, std::vector<std::string>> received;
   std::vector<std::unique_ptr<recorder::RawReader>> readers;
   for (const auto& [topic, samples] : expected) {
-    readers.push_back(std::make_unique<recorder::RawReader>(
-        participant, topic, topic_info(topic).type, lossless(topic_info(topic)), [&, topic = topic](const auto& sample, const auto&) {
-          std::lock_guard<std::mutex> lock(mutex);
-          received[topic].push_back(hex(sample.data(), sample.size()));
-        }));
+    readers.push_back(
+        std::make_unique<recorder::RawReader>(participant, topic, topic_info(topic).type, lossless(topic_info(topic)),
+                                              [&, topic = topic](const auto& sample, const auto&) {
+                                                std::lock_guard<std::mutex> lock(mutex);
+                                                received[topic].push_back(hex(sample.data(), sample.size()));
+                                              }));
   }
   std::cout << "ready" << std::endl;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
@@ -139,15 +142,16 @@ int receive(const std::string& expected_path, double seconds) {
   for (const auto& [topic, samples] : expected) {
     const auto& got = received[topic];
     size_t first_difference = 0;
-    while (first_difference < std::min(got.size(), samples.size()) && got[first_difference] == samples[first_difference])
+    while (first_difference < std::min(got.size(), samples.size()) &&
+           got[first_difference] == samples[first_difference])
       ++first_difference;
     const bool same = got == samples;
     if (!same && first_difference < std::min(got.size(), samples.size()))
       std::cout << "  expected " << samples[first_difference] << "\n  received " << got[first_difference] << "\n";
     failures += same ? 0 : 1;
-    std::cout << (same ? "ok   " : "FAIL ") << topic << ": " << got.size() << " of " << samples.size()
-              << " samples" << (same ? ", byte-identical, in order" : ", first difference at sample " +
-                                                                         std::to_string(first_difference))
+    std::cout << (same ? "ok   " : "FAIL ") << topic << ": " << got.size() << " of " << samples.size() << " samples"
+              << (same ? ", byte-identical, in order"
+                       : ", first difference at sample " + std::to_string(first_difference))
               << "\n";
   }
   return failures == 0 ? 0 : 1;
@@ -157,7 +161,8 @@ int burst(uint32_t count, uint32_t rays, const std::string& history) {
   Participant participant(dds_settings_from_config(Config::parse("", "")), "mcap_probe/burst");
   Writer<sensor_msgs::msg::LaserScanPubSubType> writer(participant, topics::kScan,
                                                        QosSettings{true, false, history == "keep_all", 5});
-  if (!writer.wait_for_readers(1, std::chrono::seconds(20))) throw std::runtime_error("no reader on rt/scan within 20 s");
+  if (!writer.wait_for_readers(1, std::chrono::seconds(20)))
+    throw std::runtime_error("no reader on rt/scan within 20 s");
   sensor_msgs::msg::LaserScan scan;
   scan.header().frame_id("laser");
   scan.ranges(std::vector<float>(rays, 3.0f));
@@ -208,8 +213,9 @@ int main(int argc, char** argv) {
       for (int i = 3; i < argc; ++i) seconds.push_back(std::stod(argv[i]));
       return stamps(argv[2], seconds);
     }
-    std::cerr << "usage: mcap_probe publish COUNT EXPECTED | receive EXPECTED SECONDS | burst COUNT RAYS keep_all|keep_last"
-                 " | stamps FILE STAMP...\n";
+    std::cerr
+        << "usage: mcap_probe publish COUNT EXPECTED | receive EXPECTED SECONDS | burst COUNT RAYS keep_all|keep_last"
+           " | stamps FILE STAMP...\n";
     return 2;
   } catch (const std::exception& error) {
     std::cerr << "mcap_probe: " << error.what() << "\n";

@@ -22,7 +22,7 @@ uint32_t yaw_centidegrees(uint32_t counts) {
 }
 
 uint32_t yaw_since_edge_centidegrees(uint32_t elapsed_us, uint32_t counts_per_period) {
-  const uint32_t one_count = 84;  // 83.97 rounded up: never past the next edge's yaw
+  const uint32_t one_count = 84;         // 83.97 rounded up: never past the next edge's yaw
   if (elapsed_us > 1000000UL) return 0;  // stalled: no speed to trust
   // counts = elapsed_us * counts_per_period / 250000, in units of 1/1000 count, in 32 bits.
   const uint32_t milli_counts = elapsed_us / 10 * counts_per_period / 25;
@@ -133,9 +133,12 @@ void ScannerCore::control_speed(uint32_t now) {
   if (elapsed < kControlPeriodMs) return;
   const int32_t count = hal_.encoder_count();
   const int32_t seen = 4 * (count - control_count_);  // quarter counts
-  const int32_t target = static_cast<int32_t>(rpm_of_resolution(resolution_) * kQuarterCountsPerRevolution * elapsed / 60000UL);
+  const int32_t target =
+      static_cast<int32_t>(rpm_of_resolution(resolution_) * kQuarterCountsPerRevolution * elapsed / 60000UL);
   counts_per_period_ = seen > 0 ? static_cast<uint32_t>(seen) * kControlPeriodMs / (4 * elapsed) : 0;
-  rpm_x10_ = seen > 0 ? static_cast<uint16_t>(static_cast<uint32_t>(seen) * 600000UL / (kQuarterCountsPerRevolution * elapsed)) : 0;
+  rpm_x10_ =
+      seen > 0 ? static_cast<uint16_t>(static_cast<uint32_t>(seen) * 600000UL / (kQuarterCountsPerRevolution * elapsed))
+               : 0;
   int32_t duty16 = static_cast<int32_t>(duty16_) + (target - seen) * 4;
   if (duty16 < 16) duty16 = 16;
   if (duty16 > 255 * 16) duty16 = 255 * 16;
@@ -177,8 +180,8 @@ void ScannerCore::measure() {
     }
     return;
   }
-  const uint32_t fields[] = {sequence_++, yaw,
-                             static_cast<uint32_t>(pitch_degrees(revolution_, cycle_)) * 100U, range_cm, signal};
+  const uint32_t fields[] = {sequence_++, yaw, static_cast<uint32_t>(pitch_degrees(revolution_, cycle_)) * 100U,
+                             range_cm, signal};
   send_fields('M', fields, 5);
 }
 

@@ -67,10 +67,10 @@ class ScannerCore {
   uint8_t revolution_ = 0;
   uint16_t cycle_ = 0;
   uint32_t sequence_ = 0;
-  int32_t revolution_end_q_ = 0;  // quarter counts at which the current revolution ends
+  int32_t revolution_end_q_ = 0;     // quarter counts at which the current revolution ends
   bool revolution_pending_ = false;  // the next revolution starts with its first measurement
-  uint32_t settle_until_ = 0;     // ms: no measurements while the servo moves
-  uint16_t duty16_ = 0;           // motor duty in 1/16 steps, for a smooth integral controller
+  uint32_t settle_until_ = 0;        // ms: no measurements while the servo moves
+  uint16_t duty16_ = 0;              // motor duty in 1/16 steps, for a smooth integral controller
   uint32_t control_time_ = 0;
   int32_t control_count_ = 0;
   uint16_t rpm_x10_ = 0;

@@ -43,8 +43,9 @@ std::vector<Line> parse(const std::string& output) {
 }
 
 struct Rig {
-  explicit Rig(SimulatedHardware::RangeFunction range = [](const Eigen::Vector3d&, const Eigen::Vector3d&) { return 3.0; },
-               HardwareSettings settings = quiet())
+  explicit Rig(
+      SimulatedHardware::RangeFunction range = [](const Eigen::Vector3d&, const Eigen::Vector3d&) { return 3.0; },
+      HardwareSettings settings = quiet())
       : hardware(std::move(range), settings), core(hardware) {
     core.begin();
   }
@@ -99,14 +100,14 @@ TEST(GearTrain, InterpolationBetweenEdges) {
   // 28 RPM: 50 counts per 250 ms, so 2.5 ms after an edge is half a count.
   EXPECT_NEAR(yaw_since_edge_centidegrees(2500, 50), 42.0, 1.0);
   EXPECT_EQ(yaw_since_edge_centidegrees(0, 50), 0u);
-  EXPECT_LT(yaw_since_edge_centidegrees(60000, 50), 84u);  // never past the next count
+  EXPECT_LT(yaw_since_edge_centidegrees(60000, 50), 84u);   // never past the next count
   EXPECT_EQ(yaw_since_edge_centidegrees(2000000, 50), 0u);  // stalled
 }
 
 TEST(Schedule, PitchAndSpeedsFromTheThesis) {
   EXPECT_EQ(pitch_degrees(0, 0), 42);
   EXPECT_EQ(pitch_degrees(26, 0), 120);
-  EXPECT_EQ(pitch_degrees(0, 1), 43);   // eq. 4.9: the next cycle starts a degree later
+  EXPECT_EQ(pitch_degrees(0, 1), 43);  // eq. 4.9: the next cycle starts a degree later
   EXPECT_EQ(pitch_degrees(26, 2), 122);
   EXPECT_EQ(pitch_degrees(0, 3), 42);
   EXPECT_EQ(rpm_of_resolution(0), 12);

@@ -18,8 +18,7 @@ PtyDevice::PtyDevice(const std::string& link) : link_(link) {
   path_ = ptsname(master_);
   slave_ = ::open(path_.c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC);
   termios settings{};
-  if (slave_ < 0 || tcgetattr(slave_, &settings) != 0)
-    throw std::runtime_error(path_ + ": " + std::strerror(errno));
+  if (slave_ < 0 || tcgetattr(slave_, &settings) != 0) throw std::runtime_error(path_ + ": " + std::strerror(errno));
   cfmakeraw(&settings);  // no echo: the device's lines must not come back as commands
   tcsetattr(slave_, TCSANOW, &settings);
   if (!link_.empty()) {

@@ -24,7 +24,8 @@ RoomModel load_room(const Config& config) {
     opening.top = entry.number("top", 2.0, 0.0, 20.0);
     room.openings.push_back(opening);
   }
-  for (const auto& row : config.has("outside_walls") ? config.number_rows("outside_walls", 4) : std::vector<std::vector<double>>{})
+  for (const auto& row :
+       config.has("outside_walls") ? config.number_rows("outside_walls", 4) : std::vector<std::vector<double>>{})
     room.outside_walls.push_back({Eigen::Vector2d(row[0], row[1]), Eigen::Vector2d(row[2], row[3])});
   for (const auto& entry : config.maps("boxes")) {
     const auto min = entry.numbers("min", 3), max = entry.numbers("max", 3);

@@ -53,7 +53,8 @@ void place_scanner(RoomModel& room, Draw& draw, double wall_margin, double box_m
   for (int attempt = 0; attempt < 10000; ++attempt) {
     const Eigen::Vector2d p(draw.uniform(low.x(), high.x()), draw.uniform(low.y(), high.y()));
     if (!inside(room.corners, p) || distance_to_walls(room.corners, p) < wall_margin) continue;
-    if (std::any_of(room.boxes.begin(), room.boxes.end(), [&](const Box& b) { return distance_to_box(b, p) < box_margin; }))
+    if (std::any_of(room.boxes.begin(), room.boxes.end(),
+                    [&](const Box& b) { return distance_to_box(b, p) < box_margin; }))
       continue;
     room.scanner = Eigen::Vector3d(p.x(), p.y(), draw.uniform(0.9, 1.5));
     return;
@@ -92,7 +93,8 @@ bool add_opening(RoomModel& room, Draw& draw, size_t wall, double width, double 
 // A wall `behind` m outside the opening, parallel to its wall, running `reach` m either side.
 void add_wall_behind(RoomModel& room, const Opening& opening, double behind, double reach) {
   const Eigen::Vector2d a = room.corners[opening.wall], b = room.corners[(opening.wall + 1) % room.corners.size()];
-  const Eigen::Vector2d along = (b - a).normalized(), out(along.y(), -along.x());  // counter-clockwise: outside is right
+  const Eigen::Vector2d along = (b - a).normalized(),
+                        out(along.y(), -along.x());  // counter-clockwise: outside is right
   const Eigen::Vector2d mid = a + along * (opening.from + opening.to) / 2 + out * behind;
   room.outside_walls.push_back({mid - along * reach, mid + along * reach});
 }
@@ -132,10 +134,18 @@ void add_tall_furniture(RoomModel& room, Draw& draw, double w, double d, int sid
   const double start = in_corner ? 0.02 : draw.uniform(0.3, length - width - 0.3);
   Eigen::Vector3d min, max;
   switch (side) {
-    case 0: min = {start, 0.02, 0}, max = {start + width, 0.02 + depth, height}; break;
-    case 1: min = {w - 0.02 - depth, start, 0}, max = {w - 0.02, start + width, height}; break;
-    case 2: min = {w - start - width, d - 0.02 - depth, 0}, max = {w - start, d - 0.02, height}; break;
-    default: min = {0.02, d - start - width, 0}, max = {0.02 + depth, d - start, height}; break;
+    case 0:
+      min = {start, 0.02, 0}, max = {start + width, 0.02 + depth, height};
+      break;
+    case 1:
+      min = {w - 0.02 - depth, start, 0}, max = {w - 0.02, start + width, height};
+      break;
+    case 2:
+      min = {w - start - width, d - 0.02 - depth, 0}, max = {w - start, d - 0.02, height};
+      break;
+    default:
+      min = {0.02, d - start - width, 0}, max = {0.02 + depth, d - start, height};
+      break;
   }
   room.boxes.push_back({min, max});
 }
@@ -242,26 +252,38 @@ RoomModel make_room(RoomCategory category, Draw& draw) {
 
 const std::vector<RoomCategory>& room_categories() {
   static const std::vector<RoomCategory> all = {
-      RoomCategory::Box,    RoomCategory::Doors,     RoomCategory::Windows,   RoomCategory::Alcove,
-      RoomCategory::ChimneyBreast, RoomCategory::LShape, RoomCategory::TShape, RoomCategory::Angled,
-      RoomCategory::Furniture, RoomCategory::NearWall, RoomCategory::Closet,  RoomCategory::Mixed};
+      RoomCategory::Box,           RoomCategory::Doors,    RoomCategory::Windows, RoomCategory::Alcove,
+      RoomCategory::ChimneyBreast, RoomCategory::LShape,   RoomCategory::TShape,  RoomCategory::Angled,
+      RoomCategory::Furniture,     RoomCategory::NearWall, RoomCategory::Closet,  RoomCategory::Mixed};
   return all;
 }
 
 const char* category_name(RoomCategory category) {
   switch (category) {
-    case RoomCategory::Box: return "box";
-    case RoomCategory::Doors: return "doors";
-    case RoomCategory::Windows: return "windows";
-    case RoomCategory::Alcove: return "alcove";
-    case RoomCategory::ChimneyBreast: return "chimney_breast";
-    case RoomCategory::LShape: return "l_shape";
-    case RoomCategory::TShape: return "t_shape";
-    case RoomCategory::Angled: return "angled";
-    case RoomCategory::Furniture: return "furniture";
-    case RoomCategory::NearWall: return "near_wall";
-    case RoomCategory::Closet: return "closet";
-    case RoomCategory::Mixed: return "mixed";
+    case RoomCategory::Box:
+      return "box";
+    case RoomCategory::Doors:
+      return "doors";
+    case RoomCategory::Windows:
+      return "windows";
+    case RoomCategory::Alcove:
+      return "alcove";
+    case RoomCategory::ChimneyBreast:
+      return "chimney_breast";
+    case RoomCategory::LShape:
+      return "l_shape";
+    case RoomCategory::TShape:
+      return "t_shape";
+    case RoomCategory::Angled:
+      return "angled";
+    case RoomCategory::Furniture:
+      return "furniture";
+    case RoomCategory::NearWall:
+      return "near_wall";
+    case RoomCategory::Closet:
+      return "closet";
+    case RoomCategory::Mixed:
+      return "mixed";
   }
   return "unknown";
 }
@@ -274,13 +296,13 @@ HardwareSettings draw_hardware(std::mt19937& random) {
   const double scale = uniform(0.7, 1.3);
   h.range_noise = 0.0073 * scale;
   h.errors.range_noise_per_m = 0.0093 * scale;
-  h.errors.range_bias = uniform(-0.01, 0.01);             // after the user's offset calibration
-  h.errors.lever_arm = uniform(0.01, 0.03);               // LiDAR housing on the servo horn
+  h.errors.range_bias = uniform(-0.01, 0.01);  // after the user's offset calibration
+  h.errors.lever_arm = uniform(0.01, 0.03);    // LiDAR housing on the servo horn
   h.errors.encoder_offset = uniform(-M_PI, M_PI);
   h.errors.yaw_eccentricity = uniform(0, 0.3) * kDegree;  // printed gears
   h.errors.yaw_phase = uniform(0, 2 * M_PI);
   h.errors.servo_offset = uniform(-0.5, 0.5) * kDegree;
-  h.errors.servo_error = 0.3 * kDegree;                   // a standard servo's deadband and pot nonlinearity
+  h.errors.servo_error = 0.3 * kDegree;  // a standard servo's deadband and pot nonlinearity
   h.dropout = uniform(0.001, 0.01);
   h.seed = static_cast<unsigned>(random());
   return h;

@@ -10,7 +10,9 @@ namespace scanbus::sim {
 
 namespace {
 
-Eigen::Matrix3d heading_rotation(double heading) { return Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitZ()).matrix(); }
+Eigen::Matrix3d heading_rotation(double heading) {
+  return Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitZ()).matrix();
+}
 
 // Ray-box slab test; distance to the entry point, or infinity.
 double cast_box(const Box& box, const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) {
@@ -42,7 +44,8 @@ Eigen::Vector3d RoomModel::to_room(const Eigen::Vector3d& scanner_point) const {
   return scanner + heading_rotation(heading) * scanner_point;
 }
 
-std::optional<double> RoomModel::cast(const Eigen::Vector3d& scanner_origin, const Eigen::Vector3d& scanner_direction) const {
+std::optional<double> RoomModel::cast(const Eigen::Vector3d& scanner_origin,
+                                      const Eigen::Vector3d& scanner_direction) const {
   const Eigen::Vector3d direction = heading_rotation(heading) * scanner_direction;
   const Eigen::Vector3d origin = to_room(scanner_origin);
   double nearest = std::numeric_limits<double>::infinity();
@@ -103,7 +106,8 @@ bool RoomModel::within_reach(const Eigen::Vector2d& point) const {
 
 std::vector<double> RoomModel::wall_lengths() const {
   std::vector<double> lengths;
-  for (size_t i = 0; i < corners.size(); ++i) lengths.push_back((corners[(i + 1) % corners.size()] - corners[i]).norm());
+  for (size_t i = 0; i < corners.size(); ++i)
+    lengths.push_back((corners[(i + 1) % corners.size()] - corners[i]).norm());
   return lengths;
 }
 
@@ -128,10 +132,12 @@ void RoomModel::validate() const {
       inside = !inside;
   }
   if (!inside) throw std::invalid_argument("the scanner stands outside the floor plan");
-  if (scanner.z() <= 0 || scanner.z() >= ceiling) throw std::invalid_argument("the scanner is not between floor and ceiling");
+  if (scanner.z() <= 0 || scanner.z() >= ceiling)
+    throw std::invalid_argument("the scanner is not between floor and ceiling");
   const auto lengths = wall_lengths();
   for (const auto& opening : openings) {
-    if (opening.wall >= corners.size()) throw std::invalid_argument("an opening names wall " + std::to_string(opening.wall) + ", which does not exist");
+    if (opening.wall >= corners.size())
+      throw std::invalid_argument("an opening names wall " + std::to_string(opening.wall) + ", which does not exist");
     if (opening.from < 0 || opening.to > lengths[opening.wall] || opening.from >= opening.to)
       throw std::invalid_argument("an opening on wall " + std::to_string(opening.wall) + " does not fit the wall");
   }

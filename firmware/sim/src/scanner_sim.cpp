@@ -20,7 +20,7 @@ namespace {
 volatile sig_atomic_t stop_requested = 0;
 void request_stop(int) { stop_requested = 1; }
 
-constexpr double kPollStep = 0.0005;        // s of simulated time between firmware polls
+constexpr double kPollStep = 0.0005;          // s of simulated time between firmware polls
 constexpr size_t kDeviceBufferBytes = 65536;  // unread output beyond this is lost, like a full USB buffer
 
 const char* embedded_room() {
@@ -32,7 +32,9 @@ const char* embedded_room() {
 // One power-on of the device: hardware state and firmware restart together.
 struct Device {
   Device(const RoomModel& room, const ScannerSimOptions& options, unsigned boot)
-      : hardware([&room](const Eigen::Vector3d& o, const Eigen::Vector3d& d) { return room.cast(o, d); }, settings(options, boot)), core(hardware) {
+      : hardware([&room](const Eigen::Vector3d& o, const Eigen::Vector3d& d) { return room.cast(o, d); },
+                 settings(options, boot)),
+        core(hardware) {
     core.begin();
   }
   static HardwareSettings settings(const ScannerSimOptions& options, unsigned boot) {
@@ -49,9 +51,9 @@ struct Device {
 }  // namespace
 
 int run_scanner_sim_unguarded(const ScannerSimOptions& options) {
-  const RoomModel room =
-      options.room_file.empty() ? load_room(scanbus::Config::parse(embedded_room(), "(built-in room)"))
-                                : load_room_file(options.room_file);
+  const RoomModel room = options.room_file.empty()
+                             ? load_room(scanbus::Config::parse(embedded_room(), "(built-in room)"))
+                             : load_room_file(options.room_file);
   signal(SIGINT, request_stop);
   signal(SIGTERM, request_stop);
   signal(SIGPIPE, SIG_IGN);
@@ -59,7 +61,8 @@ int run_scanner_sim_unguarded(const ScannerSimOptions& options) {
   auto device = std::make_unique<Device>(room, options, 0);
   std::printf("pty %s\n", pty->path().c_str());
   std::fflush(stdout);
-  std::fprintf(stderr, "scanner_sim: room '%s', %zu walls, speed x%g\n", room.name.c_str(), room.corners.size(), options.speed);
+  std::fprintf(stderr, "scanner_sim: room '%s', %zu walls, speed x%g\n", room.name.c_str(), room.corners.size(),
+               options.speed);
 
   std::string pending;
   size_t lost_bytes = 0;
@@ -68,7 +71,8 @@ int run_scanner_sim_unguarded(const ScannerSimOptions& options) {
   double sim_offset = 0;  // simulated time before the current boot
   auto started = std::chrono::steady_clock::now();
   while (!stop_requested) {
-    const double target = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() * options.speed;
+    const double target =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() * options.speed;
     while (sim_offset + device->hardware.time() < target && !stop_requested) {
       device->core.poll();
       device->hardware.advance(kPollStep);
@@ -123,7 +127,8 @@ void add_scanner_sim_options(CLI::App& app, ScannerSimOptions& options) {
   app.add_option("--noise", options.noise, "Range noise, one sigma, m")->check(CLI::Range(0.0, 1.0));
   app.add_option("--dropout", options.dropout, "Probability of no return per measurement")->check(CLI::Range(0.0, 1.0));
   app.add_option("--unplug-at", options.unplug_at, "Fault: unplug the device at this simulated time, s");
-  app.add_option("--unplug-for", options.unplug_for, "Fault: stay unplugged this long, real s")->check(CLI::Range(0.0, 60.0));
+  app.add_option("--unplug-for", options.unplug_for, "Fault: stay unplugged this long, real s")
+      ->check(CLI::Range(0.0, 60.0));
 }
 
 }  // namespace scanbus::sim

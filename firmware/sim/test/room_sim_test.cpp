@@ -62,8 +62,8 @@ TEST(RoomModel, BoxesBlockRays) {
 
 TEST(RoomModel, HorizontalRayPassesOverALowBox) {
   RoomModel room = box_room();
-  room.boxes.push_back({{3, 0.5, 0}, {3.5, 1.5, 0.8}});  // below the scanner's height (1 m)
-  const double pitch = M_PI / 2;                            // cos(pitch) is 6e-17, not 0
+  room.boxes.push_back({{3, 0.5, 0}, {3.5, 1.5, 0.8}});                       // below the scanner's height (1 m)
+  const double pitch = M_PI / 2;                                              // cos(pitch) is 6e-17, not 0
   EXPECT_NEAR(*room.cast({std::sin(pitch), 0, std::cos(pitch)}), 3.0, 1e-9);  // the wall, not the box
 }
 
@@ -119,9 +119,9 @@ TEST(RoomFile, BadRoomIsAConfigError) {
 
 TEST(RoomModel, OutsideWallsAreSeenThroughOpeningsOnly) {
   RoomModel room = box_room();
-  room.openings.push_back({1, 0.5, 1.5, 0.0, 2.0});                 // a door in the wall at x = 5
-  room.outside_walls.push_back({{7, -2}, {7, 5}});                  // a corridor's far side
-  EXPECT_NEAR(*room.cast({1, 0, 0}), 5.0, 1e-9);                   // through the door
+  room.openings.push_back({1, 0.5, 1.5, 0.0, 2.0});  // a door in the wall at x = 5
+  room.outside_walls.push_back({{7, -2}, {7, 5}});   // a corridor's far side
+  EXPECT_NEAR(*room.cast({1, 0, 0}), 5.0, 1e-9);     // through the door
   EXPECT_NEAR(*room.cast(Eigen::Vector3d(1, 0.5, 0).normalized()), 3.0 * std::sqrt(1.25), 1e-9);  // the wall beside it
 }
 

@@ -108,8 +108,11 @@ class CloudAssembly : public Service {
     for (const auto& t : message.transforms()) {
       try {
         const Eigen::Isometry3d transform = isometry(t.transform());
-        if (is_static) assembler_.add_static(t.header().frame_id(), t.child_frame_id(), transform);
-        else assembler_.add_transform(t.header().frame_id(), t.child_frame_id(), to_seconds(t.header().stamp()), transform);
+        if (is_static)
+          assembler_.add_static(t.header().frame_id(), t.child_frame_id(), transform);
+        else
+          assembler_.add_transform(t.header().frame_id(), t.child_frame_id(), to_seconds(t.header().stamp()),
+                                   transform);
       } catch (const transforms::TransformError& e) {
         ++health_.counter("transforms_rejected");
         health_.error(e.what());
@@ -119,8 +122,12 @@ class CloudAssembly : public Service {
   }
 
   void receive(const sensor_msgs::msg::LaserScan& message) {
-    LaserScanData scan{to_seconds(message.header().stamp()), message.angle_min(), message.angle_increment(),
-                       message.range_min(), message.range_max(), message.ranges()};
+    LaserScanData scan{to_seconds(message.header().stamp()),
+                       message.angle_min(),
+                       message.angle_increment(),
+                       message.range_min(),
+                       message.range_max(),
+                       message.ranges()};
     if (message.header().frame_id().empty() || !std::isfinite(scan.angle_min) || !std::isfinite(scan.angle_increment)) {
       ++health_.counter("scans_rejected");
       health_.error("scan without a frame or with unusable angles");
@@ -147,8 +154,9 @@ class CloudAssembly : public Service {
       std::lock_guard<std::mutex> lock(mutex_);
       window = assembler_.window(begin, end, request.frame_id());
     }
-    static const std::map<WindowReply::Status, uint8_t> status = {
-        {WindowReply::Ok, Reply::OK}, {WindowReply::Empty, Reply::EMPTY}, {WindowReply::BadRequest, Reply::BAD_REQUEST}};
+    static const std::map<WindowReply::Status, uint8_t> status = {{WindowReply::Ok, Reply::OK},
+                                                                  {WindowReply::Empty, Reply::EMPTY},
+                                                                  {WindowReply::BadRequest, Reply::BAD_REQUEST}};
     reply.status(status.at(window.status));
     reply.message(window.message);
     const std::vector<Eigen::Vector3f>& points = window.points;
@@ -171,7 +179,8 @@ class CloudAssembly : public Service {
       health_.counter("voxels") = continuous.size();
       health_.counter("voxels_dropped") = continuous.dropped();
     }
-    assembled_.write(to_coloured_point_cloud2(points, colours_by_height(points), assembler_.fixed_frame(), to_stamp(stamp)));
+    assembled_.write(
+        to_coloured_point_cloud2(points, colours_by_height(points), assembler_.fixed_frame(), to_stamp(stamp)));
     ++health_.counter("clouds_published");
     if (settings_.elevation.cell_size > 0) publish_elevation(points, stamp);
   }
@@ -207,6 +216,8 @@ class CloudAssembly : public Service {
 
 }  // namespace
 
-std::unique_ptr<Service> make_cloud_assembly(ServiceContext& context) { return std::make_unique<CloudAssembly>(context); }
+std::unique_ptr<Service> make_cloud_assembly(ServiceContext& context) {
+  return std::make_unique<CloudAssembly>(context);
+}
 
 }  // namespace scanbus::cloud_assembly

@@ -40,7 +40,8 @@ std::vector<Eigen::Vector3f> read_xyz(const std::string& path) {
       char* end = nullptr;
       value = std::strtof(at, &end);
       if (end == at)
-        throw CloudFileError(path + ":" + std::to_string(number) + ": expected three numbers x y z, got '" + line.substr(0, 60) + "'");
+        throw CloudFileError(path + ":" + std::to_string(number) + ": expected three numbers x y z, got '" +
+                             line.substr(0, 60) + "'");
       at = end;
     }
     points.emplace_back(xyz[0], xyz[1], xyz[2]);
@@ -67,7 +68,8 @@ unsigned long long file_size(const std::string& path) {
 // POINTS x fields out of it, and reads as many compressed bytes as the first says, past the
 // file's end if need be (found by tests/fuzz, cloud_file). So both must fit the header.
 template <typename Fail>
-void check_compressed_sizes(std::istream& data, unsigned long long left, unsigned long long expected, const Fail& fail) {
+void check_compressed_sizes(std::istream& data, unsigned long long left, unsigned long long expected,
+                            const Fail& fail) {
   unsigned char sizes[8];
   if (left < 8 || !data.read(reinterpret_cast<char*>(sizes), 8)) fail("binary_compressed data without its sizes");
   const auto uint32_at = [&](int at) {
@@ -75,9 +77,11 @@ void check_compressed_sizes(std::istream& data, unsigned long long left, unsigne
            static_cast<unsigned long long>(sizes[at + 3]) << 24;
   };
   if (uint32_at(0) > left - 8)
-    fail("compressed size " + std::to_string(uint32_at(0)) + " past the file's " + std::to_string(left - 8) + " bytes of data");
+    fail("compressed size " + std::to_string(uint32_at(0)) + " past the file's " + std::to_string(left - 8) +
+         " bytes of data");
   if (uint32_at(4) != expected)
-    fail("uncompressed size " + std::to_string(uint32_at(4)) + " is not the " + std::to_string(expected) + " bytes POINTS x fields take");
+    fail("uncompressed size " + std::to_string(uint32_at(4)) + " is not the " + std::to_string(expected) +
+         " bytes POINTS x fields take");
 }
 
 // PCL's header reader goes on after DATA: it skips empty and comment lines and applies any
@@ -86,7 +90,8 @@ void check_compressed_sizes(std::istream& data, unsigned long long left, unsigne
 // TYPE... made PCL read past its buffer: found by tests/fuzz, cloud_file).
 template <typename Fail>
 void check_no_header_after_data(const std::string& path, std::streamoff data_start, const Fail& fail) {
-  static const char* kPclKeys[] = {"FIELDS", "COLUMNS", "SIZE", "TYPE", "COUNT", "WIDTH", "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
+  static const char* kPclKeys[] = {"FIELDS", "COLUMNS", "SIZE",      "TYPE",   "COUNT",
+                                   "WIDTH",  "HEIGHT",  "VIEWPOINT", "POINTS", "DATA"};
   std::ifstream in(path, std::ios::binary);
   in.seekg(data_start);
   for (std::string line; std::getline(in, line);) {
@@ -106,8 +111,11 @@ void check_no_header_after_data(const std::string& path, std::streamoff data_sta
 // consistent PCD header: known keys, one SIZE, TYPE (and COUNT) per field, types I or U of
 // 1, 2, 4 or 8 bytes, F of 4 or 8, B of 1, POINTS = WIDTH x HEIGHT, DATA ascii, binary or binary_compressed.
 void check_pcd_header(const std::string& path) {
-  static const char* kKeys[] = {"VERSION", "FIELDS", "SIZE", "TYPE", "COUNT", "WIDTH", "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
-  const auto fail = [&](const std::string& why) { throw CloudFileError(path + ": not a readable pcd file (" + why + ")"); };
+  static const char* kKeys[] = {"VERSION", "FIELDS", "SIZE",      "TYPE",   "COUNT",
+                                "WIDTH",   "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
+  const auto fail = [&](const std::string& why) {
+    throw CloudFileError(path + ": not a readable pcd file (" + why + ")");
+  };
   std::map<std::string, std::vector<std::string>> header;
   std::ifstream in(path, std::ios::binary);
   std::string line;
@@ -131,7 +139,8 @@ void check_pcd_header(const std::string& path) {
     if (!header.count(key) || header[key].empty()) fail(std::string("no ") + key + " line in the header");
   const size_t fields = header["FIELDS"].size();
   for (const char* key : {"SIZE", "TYPE", "COUNT"})
-    if (header.count(key) && header[key].size() != fields) fail(std::string(key) + " does not give one value per field");
+    if (header.count(key) && header[key].size() != fields)
+      fail(std::string(key) + " does not give one value per field");
   // The types PCL knows (pcl::getFieldType): with any other, its reader indexes by type 255.
   for (size_t f = 0; f < fields; ++f) {
     const std::string &size = header["SIZE"][f], &type = header["TYPE"][f];
@@ -172,10 +181,13 @@ void check_pcd_header(const std::string& path) {
 // every element's count fits in the file (at least one byte and a separator per ascii
 // value, the values' sizes in binary).
 void check_ply_header(const std::string& path) {
-  const auto fail = [&](const std::string& why) { throw CloudFileError(path + ": not a readable ply file (" + why + ")"); };
-  static const std::map<std::string, unsigned> kSizes = {
-      {"char", 1}, {"uchar", 1}, {"int8", 1}, {"uint8", 1}, {"short", 2}, {"ushort", 2}, {"int16", 2}, {"uint16", 2},
-      {"int", 4}, {"uint", 4}, {"int32", 4}, {"uint32", 4}, {"float", 4}, {"float32", 4}, {"double", 8}, {"float64", 8}};
+  const auto fail = [&](const std::string& why) {
+    throw CloudFileError(path + ": not a readable ply file (" + why + ")");
+  };
+  static const std::map<std::string, unsigned> kSizes = {{"char", 1},  {"uchar", 1},   {"int8", 1},   {"uint8", 1},
+                                                         {"short", 2}, {"ushort", 2},  {"int16", 2},  {"uint16", 2},
+                                                         {"int", 4},   {"uint", 4},    {"int32", 4},  {"uint32", 4},
+                                                         {"float", 4}, {"float32", 4}, {"double", 8}, {"float64", 8}};
   std::ifstream in(path, std::ios::binary);
   std::string line, format;
   std::vector<std::pair<unsigned long long, unsigned long long>> elements;  // count, minimum bytes of one
@@ -204,8 +216,10 @@ void check_ply_header(const std::string& path) {
     if (key == "end_header") {
       unsigned long long needed = 0;
       for (const auto& [count, bytes] : elements) needed += count * bytes;
-      const unsigned long long left = file_size(path) - static_cast<unsigned long long>(std::max<std::streamoff>(in.tellg(), 0));
-      if (needed > left) fail("its elements need " + std::to_string(needed) + " bytes, the file holds " + std::to_string(left));
+      const unsigned long long left =
+          file_size(path) - static_cast<unsigned long long>(std::max<std::streamoff>(in.tellg(), 0));
+      if (needed > left)
+        fail("its elements need " + std::to_string(needed) + " bytes, the file holds " + std::to_string(left));
       return;
     }
   }
@@ -223,25 +237,29 @@ std::vector<Eigen::Vector3f> xyz_of(const pcl::PCLPointCloud2& cloud, const std:
   Field fields[3];
   for (int axis = 0; axis < 3; ++axis) {
     const std::string name(1, "xyz"[axis]);
-    const auto found = std::find_if(cloud.fields.begin(), cloud.fields.end(), [&](const auto& f) { return f.name == name; });
+    const auto found =
+        std::find_if(cloud.fields.begin(), cloud.fields.end(), [&](const auto& f) { return f.name == name; });
     if (found == cloud.fields.end()) throw CloudFileError(path + ": no field '" + name + "'");
     const bool is_double = found->datatype == pcl::PCLPointField::FLOAT64;
     if (!is_double && found->datatype != pcl::PCLPointField::FLOAT32)
       throw CloudFileError(path + ": field '" + name + "' is not a 32 or 64 bit float");
     if (static_cast<uint64_t>(found->offset) + (is_double ? 8 : 4) > cloud.point_step)
-      throw CloudFileError(path + ": field '" + name + "' lies outside the point's " + std::to_string(cloud.point_step) + " bytes");
+      throw CloudFileError(path + ": field '" + name + "' lies outside the point's " +
+                           std::to_string(cloud.point_step) + " bytes");
     fields[axis] = {found->offset, is_double};
   }
   const uint64_t row = static_cast<uint64_t>(cloud.width) * cloud.point_step;
   const uint64_t needed = cloud.height == 0 ? 0 : (static_cast<uint64_t>(cloud.height) - 1) * cloud.row_step + row;
   if (cloud.row_step < row || needed > cloud.data.size())
-    throw CloudFileError(path + ": the header promises " + std::to_string(static_cast<uint64_t>(cloud.width) * cloud.height) +
-                         " points, the data holds " + std::to_string(cloud.point_step ? cloud.data.size() / cloud.point_step : 0));
+    throw CloudFileError(
+        path + ": the header promises " + std::to_string(static_cast<uint64_t>(cloud.width) * cloud.height) +
+        " points, the data holds " + std::to_string(cloud.point_step ? cloud.data.size() / cloud.point_step : 0));
   std::vector<Eigen::Vector3f> points;
   points.reserve(static_cast<size_t>(cloud.width) * cloud.height);
   for (uint32_t r = 0; r < cloud.height; ++r) {
     for (uint32_t c = 0; c < cloud.width; ++c) {
-      const uint8_t* point = cloud.data.data() + static_cast<size_t>(r) * cloud.row_step + static_cast<size_t>(c) * cloud.point_step;
+      const uint8_t* point =
+          cloud.data.data() + static_cast<size_t>(r) * cloud.row_step + static_cast<size_t>(c) * cloud.point_step;
       Eigen::Vector3f xyz;
       for (int axis = 0; axis < 3; ++axis) {
         if (fields[axis].is_double) {

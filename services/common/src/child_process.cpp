@@ -64,7 +64,8 @@ ChildProcess::~ChildProcess() {
 
 void ChildProcess::expect_running() {
   if (auto status = exited())
-    throw std::runtime_error(name_ + " exited early with status " + std::to_string(*status) + " (see " + log_path_ + ")");
+    throw std::runtime_error(name_ + " exited early with status " + std::to_string(*status) + " (see " + log_path_ +
+                             ")");
 }
 
 std::optional<int> ChildProcess::exited() {

@@ -63,7 +63,8 @@ Config Config::parse(const std::string& yaml_text, const std::string& origin) {
   auto state = std::make_shared<State>();
   state->origin = origin;
   if (yaml_text.size() > kMaxFileBytes)
-    throw ConfigError(origin + ": larger than " + std::to_string(kMaxFileBytes >> 20) + " MiB; refused (not a config?)");
+    throw ConfigError(origin + ": larger than " + std::to_string(kMaxFileBytes >> 20) +
+                      " MiB; refused (not a config?)");
   try {
     state->root = YAML::Load(yaml_text);
   } catch (const YAML::Exception& e) {
@@ -133,8 +134,8 @@ long long Config::integer(const std::string& key, long long fallback, long long 
     }
   }
   if (result < min || result > max) {
-    fail(key, "must be between " + std::to_string(min) + " and " + std::to_string(max) + ", got " +
-                  std::to_string(result));
+    fail(key,
+         "must be between " + std::to_string(min) + " and " + std::to_string(max) + ", got " + std::to_string(result));
   }
   return result;
 }

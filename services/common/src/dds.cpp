@@ -94,7 +94,8 @@ dds::Topic* Participant::topic(const std::string& name, dds::TopicDataType* type
 void Participant::set_qos_overrides(const Config& qos_section) {
   for (const auto& name : qos_section.keys()) {
     const TopicInfo* info = find_topic(name);
-    if (!info) throw ConfigError(qos_section.origin() + ": key '" + qos_section.path_of(name) + "' names an unknown topic");
+    if (!info)
+      throw ConfigError(qos_section.origin() + ": key '" + qos_section.path_of(name) + "' names an unknown topic");
     qos_overrides_[name] = qos_from_config(qos_section, *info);
   }
 }
@@ -170,8 +171,8 @@ dds::DataWriter* create_writer(Participant& participant, const std::string& topi
 
 dds::DataReader* create_reader(Participant& participant, const std::string& topic, dds::TopicDataType* type,
                                const QosSettings& qos, dds::DataReaderListener* listener) {
-  dds::DataReader* reader = participant.subscriber()->create_datareader(
-      participant.topic(topic, type), reader_qos(qos), listener, dds::StatusMask::data_available());
+  dds::DataReader* reader = participant.subscriber()->create_datareader(participant.topic(topic, type), reader_qos(qos),
+                                                                        listener, dds::StatusMask::data_available());
   if (!reader)
     throw DdsError("cannot create reader on '" + topic + "' (" + describe(qos) +
                    "; under DDS Security: is this identity granted it? scanbus security permissions)");

@@ -33,7 +33,7 @@ int float_offset(const sensor_msgs::msg::PointCloud2& cloud, const std::string& 
 
 // An unorganised cloud of `count` points x y z and one more float32 field, data allocated.
 sensor_msgs::msg::PointCloud2 sized_cloud(const char* fourth_field, size_t count, const std::string& frame_id,
-                                         const builtin_interfaces::msg::Time& stamp) {
+                                          const builtin_interfaces::msg::Time& stamp) {
   sensor_msgs::msg::PointCloud2 cloud;
   cloud.header().frame_id(frame_id);
   cloud.header().stamp(stamp);
@@ -64,7 +64,8 @@ sensor_msgs::msg::PointCloud2 to_point_cloud2(const std::vector<CloudPoint>& poi
 }
 
 sensor_msgs::msg::PointCloud2 to_coloured_point_cloud2(const std::vector<Eigen::Vector3f>& points,
-                                                       const std::vector<uint32_t>& colours, const std::string& frame_id,
+                                                       const std::vector<uint32_t>& colours,
+                                                       const std::string& frame_id,
                                                        const builtin_interfaces::msg::Time& stamp) {
   if (colours.size() != points.size()) throw std::invalid_argument("one colour per point is needed");
   sensor_msgs::msg::PointCloud2 cloud = sized_cloud("rgb", points.size(), frame_id, stamp);
@@ -108,7 +109,8 @@ std::vector<CloudPoint> from_point_cloud2(const sensor_msgs::msg::PointCloud2& c
   for (uint32_t row = 0; row < cloud.height(); ++row) {
     for (uint32_t column = 0; column < cloud.width(); ++column) {
       const uint8_t* point = cloud.data().data() + size_t{row} * cloud.row_step() + size_t{column} * cloud.point_step();
-      points.push_back({{read(point + x), read(point + y), read(point + z)}, intensity < 0 ? 0.f : read(point + intensity)});
+      points.push_back(
+          {{read(point + x), read(point + y), read(point + z)}, intensity < 0 ? 0.f : read(point + intensity)});
     }
   }
   return points;

@@ -1,9 +1,9 @@
 #include "scanbus/service.hpp"
 
-#include <CLI/CLI.hpp>
 #include <signal.h>
 #include <spdlog/sinks/stdout_sinks.h>
 #include <unistd.h>
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <iostream>
@@ -53,8 +53,11 @@ bool StopSignal::wait_for(std::chrono::milliseconds timeout) {
 
 HealthReporter::HealthReporter(Participant& participant, std::string service, std::chrono::milliseconds period,
                                std::shared_ptr<spdlog::logger> log)
-    : watched_{&participant}, log_(std::move(log)), writer_(participant, topics::kHealth),
-      service_(std::move(service)), period_(period),
+    : watched_{&participant},
+      log_(std::move(log)),
+      writer_(participant, topics::kHealth),
+      service_(std::move(service)),
+      period_(period),
       state_(scanbus::msg::Health_Constants::STARTING) {
   thread_ = std::thread([this] { loop(); });
 }
@@ -178,8 +181,8 @@ int run_service(const std::string& name, const std::string& config_path, const S
   try {
     const Config config = config_path.empty() ? Config::parse("", "(built-in defaults)") : Config::load(config_path);
     const Config service = config.section("service");
-    const auto period = std::chrono::milliseconds(
-        static_cast<int>(1000.0 * service.number("health_period", 1.0, 0.05, 60.0)));
+    const auto period =
+        std::chrono::milliseconds(static_cast<int>(1000.0 * service.number("health_period", 1.0, 0.05, 60.0)));
     log->set_level(spdlog::level::from_str(
         service.choice("log_level", "info", {"trace", "debug", "info", "warn", "error", "off"})));
     const DdsSettings dds = dds_settings_from_config(config.section("dds"));

@@ -77,7 +77,9 @@ TEST(Config, MapWhereValueExpected) {
 
 TEST(Config, ChoiceListsAllowedValues) {
   const Config config = Config::parse("mode: fastest\n", "svc.yaml");
-  EXPECT_EQ(error_of([&] { config.choice("mode", "a", {"a", "b"}); }),
+  EXPECT_EQ(error_of([&] {
+              config.choice("mode", "a", {"a", "b"});
+            }),
             "svc.yaml: key 'mode' must be one of a, b, got 'fastest'");
 }
 
@@ -92,8 +94,7 @@ TEST(Config, SyntaxErrorNamesLine) {
 }
 
 TEST(Config, TopLevelMustBeAMap) {
-  EXPECT_EQ(error_of([] { Config::parse("- 1\n- 2\n", "list.yaml"); }),
-            "list.yaml: top level must be a map of keys");
+  EXPECT_EQ(error_of([] { Config::parse("- 1\n- 2\n", "list.yaml"); }), "list.yaml: top level must be a map of keys");
 }
 
 TEST(Config, EmptyFileMeansDefaults) {
@@ -111,7 +112,8 @@ TEST(Config, LoadsFromFile) {
 
 TEST(Config, ListsOfNumbersAndMaps) {
   const Config config = Config::parse(
-      "corners: [[0, 0], [5, 0], [5, 3]]\norigin: [1, 2, 3]\nboxes:\n  - {min: [0, 0, 0], max: [1, 1, 1]}\n", "room.yaml");
+      "corners: [[0, 0], [5, 0], [5, 3]]\norigin: [1, 2, 3]\nboxes:\n  - {min: [0, 0, 0], max: [1, 1, 1]}\n",
+      "room.yaml");
   EXPECT_EQ(config.number_rows("corners", 2).size(), 3u);
   EXPECT_EQ(config.numbers("origin", 3)[2], 3.0);
   const auto boxes = config.maps("boxes");

@@ -40,11 +40,13 @@ TEST(Permissions, TheDocumentNamesEachSubjectAndDeniesTheRest) {
                      "<topic>rt/room/walls</topic></topics></publish>"),
             std::string::npos)
       << xml;
-  EXPECT_NE(xml.find("<subscribe><topics><topic>rt/scanner/scan_cloud</topic></topics></subscribe>"), std::string::npos);
+  EXPECT_NE(xml.find("<subscribe><topics><topic>rt/scanner/scan_cloud</topic></topics></subscribe>"),
+            std::string::npos);
   EXPECT_NE(xml.find("<subject_name>CN=operator,O=scanbus</subject_name>"), std::string::npos);
   EXPECT_EQ(std::count(xml.begin(), xml.end(), '\n') > 10, true);
   size_t denies = 0;
-  for (size_t at = xml.find("<default>DENY</default>"); at != std::string::npos; at = xml.find("<default>DENY</default>", at + 1))
+  for (size_t at = xml.find("<default>DENY</default>"); at != std::string::npos;
+       at = xml.find("<default>DENY</default>", at + 1))
     ++denies;
   EXPECT_EQ(denies, 2u);
 }

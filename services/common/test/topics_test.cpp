@@ -31,8 +31,8 @@ TEST(Topics, UnknownTopicIsNamed) {
 }
 
 TEST(Topics, QosOverridesFromConfig) {
-  const Config config = Config::parse(
-      "qos:\n  rt/scanner/cloud: {reliability: best_effort, durability: volatile, depth: 3}\n", "q.yaml");
+  const Config config =
+      Config::parse("qos:\n  rt/scanner/cloud: {reliability: best_effort, durability: volatile, depth: 3}\n", "q.yaml");
   const QosSettings qos = qos_from_config(config.section("qos"), topic_info("rt/scanner/cloud"));
   EXPECT_FALSE(qos.reliable);
   EXPECT_FALSE(qos.transient_local);

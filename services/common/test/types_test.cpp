@@ -13,8 +13,7 @@ using namespace scanbus;
 // matches our topics when these strings are identical.
 TEST(Types, RegisteredNamesAreTheRos2Ones) {
   EXPECT_EQ(sensor_msgs::msg::LaserScanPubSubType().getName(), std::string("sensor_msgs::msg::dds_::LaserScan_"));
-  EXPECT_EQ(sensor_msgs::msg::PointCloud2PubSubType().getName(),
-            std::string("sensor_msgs::msg::dds_::PointCloud2_"));
+  EXPECT_EQ(sensor_msgs::msg::PointCloud2PubSubType().getName(), std::string("sensor_msgs::msg::dds_::PointCloud2_"));
   EXPECT_EQ(sensor_msgs::msg::ImuPubSubType().getName(), std::string("sensor_msgs::msg::dds_::Imu_"));
   EXPECT_EQ(sensor_msgs::msg::NavSatFixPubSubType().getName(), std::string("sensor_msgs::msg::dds_::NavSatFix_"));
   EXPECT_EQ(sensor_msgs::msg::FluidPressurePubSubType().getName(),
@@ -26,8 +25,7 @@ TEST(Types, RegisteredNamesAreTheRos2Ones) {
   EXPECT_EQ(tf2_msgs::msg::TFMessagePubSubType().getName(), std::string("tf2_msgs::msg::dds_::TFMessage_"));
   EXPECT_EQ(std_msgs::msg::HeaderPubSubType().getName(), std::string("std_msgs::msg::dds_::Header_"));
   EXPECT_EQ(builtin_interfaces::msg::TimePubSubType().getName(), std::string("builtin_interfaces::msg::dds_::Time_"));
-  EXPECT_EQ(scanbus::msg::RoomMeasurementPubSubType().getName(),
-            std::string("scanbus::msg::dds_::RoomMeasurement_"));
+  EXPECT_EQ(scanbus::msg::RoomMeasurementPubSubType().getName(), std::string("scanbus::msg::dds_::RoomMeasurement_"));
 }
 
 TEST(Types, NoTypeIsKeyed) {
@@ -38,8 +36,7 @@ TEST(Types, NoTypeIsKeyed) {
 }
 
 TEST(Types, EveryCatalogueTypeIsKnown) {
-  for (const auto& topic : topic_catalogue())
-    EXPECT_TRUE(visit_message_type(topic.type, [](auto) {})) << topic.type;
+  for (const auto& topic : topic_catalogue()) EXPECT_TRUE(visit_message_type(topic.type, [](auto) {})) << topic.type;
   EXPECT_FALSE(visit_message_type("std_msgs::msg::dds_::String_", [](auto) {}));
 }
 
@@ -54,8 +51,7 @@ TEST(Types, HeaderSerialisesAsRos2Does) {
   std_msgs::msg::HeaderPubSubType type;
   eprosima::fastrtps::rtps::SerializedPayload_t payload(type.m_typeSize);
   ASSERT_TRUE(type.serialize(&header, &payload));
-  const std::vector<uint8_t> expected = {0x00, 0x01, 0x00, 0x00, 1, 0, 0, 0, 2, 0, 0, 0,
-                                         4,    0,    0,    0,    'm', 'a', 'p', 0};
+  const std::vector<uint8_t> expected = {0x00, 0x01, 0x00, 0x00, 1, 0, 0, 0, 2, 0, 0, 0, 4, 0, 0, 0, 'm', 'a', 'p', 0};
   ASSERT_EQ(payload.length, expected.size());
   EXPECT_TRUE(std::equal(expected.begin(), expected.end(), payload.data));
 }

@@ -99,8 +99,8 @@ class PoseEstimation : public Service {
   }
 
   void receive(const sensor_msgs::msg::NavSatFix& fix) {
-    if (fix.status().status() < sensor_msgs::msg::NavSatStatus_Constants::STATUS_FIX || !std::isfinite(fix.latitude()) ||
-        !std::isfinite(fix.longitude()) || !std::isfinite(fix.altitude())) {
+    if (fix.status().status() < sensor_msgs::msg::NavSatStatus_Constants::STATUS_FIX ||
+        !std::isfinite(fix.latitude()) || !std::isfinite(fix.longitude()) || !std::isfinite(fix.altitude())) {
       reject("fixes_rejected", "GPS fix without a position");
       return;
     }

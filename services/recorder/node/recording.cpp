@@ -11,7 +11,8 @@ namespace {
 
 uint64_t now_ns() {
   return static_cast<uint64_t>(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count());
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+          .count());
 }
 
 }  // namespace
@@ -67,7 +68,7 @@ Recording::Recording(Participant& participant, const RecorderSettings& settings,
   thread_ = std::thread([this] { write_loop(); });
   log_->info("recording {} topics to {} ({} chunks)", topics.size(), settings_.out,
              compression_name(settings_.writer.compression).empty() ? "uncompressed"
-                                                                      : compression_name(settings_.writer.compression));
+                                                                    : compression_name(settings_.writer.compression));
 }
 
 Recording::~Recording() {
@@ -85,8 +86,8 @@ void Recording::enqueue(uint16_t channel, const RawSample& sample, const eprosim
   changed_.wait(lock, [&] { return queued_bytes_ < settings_.queue_bytes || stopping_ || !failure_.empty(); });
   if (!failure_.empty()) return;
   const uint64_t published = static_cast<uint64_t>(info.source_timestamp.to_ns());
-  queue_.push_back({channel, static_cast<uint32_t>(info.sample_identity.sequence_number().to64long()), received,
-                    published, sample});
+  queue_.push_back(
+      {channel, static_cast<uint32_t>(info.sample_identity.sequence_number().to64long()), received, published, sample});
   queued_bytes_ += sample.size();
   changed_.notify_all();
 }
@@ -106,7 +107,8 @@ void Recording::write_loop() {
         queued_bytes_ -= next.data.size();
         changed_.notify_all();
         lock.unlock();
-        writer_.write(next.channel, next.sequence, next.log_time, next.publish_time, next.data.data(), next.data.size());
+        writer_.write(next.channel, next.sequence, next.log_time, next.publish_time, next.data.data(),
+                      next.data.size());
         lock.lock();
         written_bytes_ += next.data.size();
         ++written_by_topic_[topic_of_channel_.at(next.channel)];

@@ -184,7 +184,8 @@ ReplayResult replay(Participant& participant, const ReplaySettings& settings, st
                                               std::chrono::duration<double>(step.due));
             while (std::chrono::steady_clock::now() < due) {
               if (StopSignal::requested()) throw Stopped{};
-              std::this_thread::sleep_until(std::min(due, std::chrono::steady_clock::now() + std::chrono::milliseconds(50)));
+              std::this_thread::sleep_until(
+                  std::min(due, std::chrono::steady_clock::now() + std::chrono::milliseconds(50)));
             }
             publish(sample, channel.id);
           },

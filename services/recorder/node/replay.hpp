@@ -21,7 +21,7 @@ namespace scanbus::recorder {
 
 struct ReplaySettings {
   std::string file;
-  double rate = 1.0;                 // times the recorded pace (at least 0.001); 0 = as fast as possible
+  double rate = 1.0;  // times the recorded pace (at least 0.001); 0 = as fast as possible
   bool loop = false;
   std::vector<std::string> topics;   // DDS or ROS names; empty: every channel
   std::optional<double> start, end;  // s after the file's first message

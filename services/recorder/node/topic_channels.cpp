@@ -25,9 +25,10 @@ uint16_t TopicChannels::add(const std::string& topic) {
   const std::string ros_type = ros_type_of_dds_type(info.type);
   auto schema = schema_of_type_.find(ros_type);
   if (schema == schema_of_type_.end())
-    schema = schema_of_type_
-                 .emplace(ros_type, writer_.add_schema(ros_type, "ros2msg", Ros2MsgCatalogue::scanbus().schema(ros_type)))
-                 .first;
+    schema =
+        schema_of_type_
+            .emplace(ros_type, writer_.add_schema(ros_type, "ros2msg", Ros2MsgCatalogue::scanbus().schema(ros_type)))
+            .first;
   return writer_.add_channel(schema->second, ros_topic_of_dds_topic(topic), "cdr",
                              {{"offered_qos_profiles", offered_qos_profiles(info.qos)}});
 }

@@ -23,7 +23,8 @@ class RoomMeasurementService : public Service {
         health_(context.health),
         measurement_(context.participant, topics::kRoomMeasurement),
         walls_(context.participant, topics::kRoomWalls),
-        scans_(context.participant, topics::kScannerScanCloud, [this](const auto& cloud, const auto&) { receive(cloud); }) {
+        scans_(context.participant, topics::kScannerScanCloud,
+               [this](const auto& cloud, const auto&) { receive(cloud); }) {
     const RoomServiceSettings settings = room_service_settings(context.config.section("room_measurement"));
     scans_needed_ = settings.scans;
     frame_id_ = settings.frame_id;

@@ -24,7 +24,8 @@ void write_laser_mcap(const std::string& path, const std::vector<LaserRecord>& r
     scan.header().frame_id(frame);
     scan.angle_min(static_cast<float>(record.angle_min));
     scan.angle_increment(static_cast<float>(record.angle_increment));
-    scan.angle_max(static_cast<float>(record.angle_min + record.angle_increment * (record.ranges.empty() ? 0.0 : record.ranges.size() - 1.0)));
+    scan.angle_max(static_cast<float>(
+        record.angle_min + record.angle_increment * (record.ranges.empty() ? 0.0 : record.ranges.size() - 1.0)));
     scan.range_max(static_cast<float>(record.range_max));
     scan.ranges(record.ranges);
     const auto bytes = to_cdr<sensor_msgs::msg::LaserScanPubSubType>(scan);

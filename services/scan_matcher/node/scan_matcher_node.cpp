@@ -39,7 +39,9 @@ scanbus::msg::Pose2D pose_message(const Pose2& pose) {
 class ScanMatcherService : public Service {
  public:
   explicit ScanMatcherService(ServiceContext& context)
-      : log_(context.log), health_(context.health), matcher_(settings_of(context.config.section("scan_matcher"))),
+      : log_(context.log),
+        health_(context.health),
+        matcher_(settings_of(context.config.section("scan_matcher"))),
         matches_(context.participant, topics::kScanMatch) {
     const Config config = context.config.section("scan_matcher");
     if (config.has("laser_axis_in_imu")) {

@@ -33,9 +33,12 @@ struct Settings {
 
 uint8_t status_state(DeviceState state) {
   switch (state) {
-    case DeviceState::Idle: return Status::IDLE;
-    case DeviceState::Scanning: return Status::SCANNING;
-    default: return Status::DISCONNECTED;
+    case DeviceState::Idle:
+      return Status::IDLE;
+    case DeviceState::Scanning:
+      return Status::SCANNING;
+    default:
+      return Status::DISCONNECTED;
   }
 }
 
@@ -44,7 +47,8 @@ Settings read_settings(const Config& config) {
   s.port = config.text("port", "/dev/ttyACM0");
   s.baud = static_cast<int>(config.integer("baud", 115200, 1, 4000000));
   if (!supported_baud(s.baud))
-    throw ConfigError(config.origin() + ": key '" + config.path_of("baud") + "' must be one of 9600, 19200, 38400, 57600, 115200, 230400");
+    throw ConfigError(config.origin() + ": key '" + config.path_of("baud") +
+                      "' must be one of 9600, 19200, 38400, 57600, 115200, 230400");
   s.session.dialect =
       config.choice("protocol", "scanbus", {"scanbus", "legacy"}) == "scanbus" ? Dialect::Scanbus : Dialect::Legacy;
   s.session.autostart = config.flag("autostart", true);
@@ -135,7 +139,8 @@ class ScannerIo : public Service {
     const bool missing = !std::filesystem::exists(settings_.port, error);
     const double step = missing ? settings_.reconnect_min : delay;
     for (double waited = 0; waited < delay; waited += step) {
-      if (StopSignal::wait_for(std::chrono::milliseconds(static_cast<int>(1000 * std::min(step, delay - waited))))) return;
+      if (StopSignal::wait_for(std::chrono::milliseconds(static_cast<int>(1000 * std::min(step, delay - waited)))))
+        return;
       if (missing && std::filesystem::exists(settings_.port, error)) return;
     }
   }
@@ -147,7 +152,8 @@ class ScannerIo : public Service {
     ++health_.counter("stalls");
     char why[128];
     std::snprintf(why, sizeof(why), "device stalled: no line for %.1f s while %s; resetting the session",
-                  watchdog_.silent_for(now), session_.state() == DeviceState::Scanning ? "scanning" : "waiting for an answer");
+                  watchdog_.silent_for(now),
+                  session_.state() == DeviceState::Scanning ? "scanning" : "waiting for an answer");
     port_.close();
     disconnected(why);
     StopSignal::wait_for(std::chrono::milliseconds(static_cast<int>(watchdog_.reset() * 1000)));
@@ -173,7 +179,8 @@ class ScannerIo : public Service {
   void handle(const DeviceLine& line) {
     const double stamp = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
     const ScanOutput output = session_.line(line, stamp);
-    if (line.kind == LineKind::Hello) log_->info("device says hello: protocol {}, firmware {}", line.protocol_version, line.text);
+    if (line.kind == LineKind::Hello)
+      log_->info("device says hello: protocol {}, firmware {}", line.protocol_version, line.text);
     if (output.revolution) publish_revolution(*output.revolution);
     if (output.scan) {
       scan_cloud_.write(to_point_cloud2(*output.scan, settings_.frame_id, now_stamp()));
@@ -225,11 +232,20 @@ class ScannerIo : public Service {
     }
     for (const auto& command : commands) {
       switch (command.command()) {
-        case Command::START: session_.command({SessionCommand::Start}); break;
-        case Command::STOP: session_.command({SessionCommand::Stop}); break;
-        case Command::STATUS: session_.command({SessionCommand::Status}); break;
-        case Command::SET_RESOLUTION: session_.command({SessionCommand::SetResolution, command.resolution()}); break;
-        default: health_.error("unknown scanner command " + std::to_string(command.command()));
+        case Command::START:
+          session_.command({SessionCommand::Start});
+          break;
+        case Command::STOP:
+          session_.command({SessionCommand::Stop});
+          break;
+        case Command::STATUS:
+          session_.command({SessionCommand::Status});
+          break;
+        case Command::SET_RESOLUTION:
+          session_.command({SessionCommand::SetResolution, command.resolution()});
+          break;
+        default:
+          health_.error("unknown scanner command " + std::to_string(command.command()));
       }
     }
     send_to_device();

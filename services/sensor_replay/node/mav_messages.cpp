@@ -10,11 +10,11 @@
 #include "NavSatFixPubSubTypes.h"
 #include "PoseStampedPubSubTypes.h"
 #include "cdr.hpp"
-#include "scanbus/typed_topics.hpp"
 #include "scanbus/clock.hpp"
 #include "scanbus/recorder/mcap_reader.hpp"
 #include "scanbus/recorder/mcap_writer.hpp"
 #include "scanbus/recorder/ros2msg.hpp"
+#include "scanbus/typed_topics.hpp"
 #include "topic_channels.hpp"
 
 namespace scanbus::sensor_replay {
@@ -48,7 +48,8 @@ sensor_msgs::msg::LaserScan laser_message(const LaserRecord& r, const std::strin
   scan.header(header(r.stamp, frame));
   scan.angle_min(static_cast<float>(r.angle_min));
   scan.angle_increment(static_cast<float>(r.angle_increment));
-  scan.angle_max(static_cast<float>(r.angle_min + r.angle_increment * (r.ranges.empty() ? 0.0 : r.ranges.size() - 1.0)));
+  scan.angle_max(
+      static_cast<float>(r.angle_min + r.angle_increment * (r.ranges.empty() ? 0.0 : r.ranges.size() - 1.0)));
   scan.range_min(static_cast<float>(r.range_min));
   scan.range_max(static_cast<float>(r.range_max));
   scan.ranges(r.ranges);
@@ -131,7 +132,8 @@ void write_mav_mcap(const std::string& path, const MavLog& log, const MavFrames&
         bytes = to_cdr<sensor_msgs::msg::NavSatFixPubSubType>(fix_message(log.fixes[record.index], frames.gps));
         break;
       case RecordKind::Baro:
-        bytes = to_cdr<sensor_msgs::msg::FluidPressurePubSubType>(pressure_message(log.baros[record.index], frames.base_link));
+        bytes = to_cdr<sensor_msgs::msg::FluidPressurePubSubType>(
+            pressure_message(log.baros[record.index], frames.base_link));
         break;
       case RecordKind::Truth:
         bytes = to_cdr<geometry_msgs::msg::PoseStampedPubSubType>(truth_message(log.truths[record.index], frames.map));
@@ -167,7 +169,8 @@ MavLog read_mav_mcap(const std::string& path) {
       } else if (topic == topics::kTruthPose.name) {
         const auto pose = from_cdr<geometry_msgs::msg::PoseStampedPubSubType>(m.data, m.size);
         const auto& p = pose.pose().position();
-        log.truths.push_back({to_seconds(pose.header().stamp()), {p.x(), p.y(), p.z()}, quaternion(pose.pose().orientation())});
+        log.truths.push_back(
+            {to_seconds(pose.header().stamp()), {p.x(), p.y(), p.z()}, quaternion(pose.pose().orientation())});
       }
     });
     const auto meta = reader.metadata().find(kMetadataName);

@@ -5,9 +5,9 @@
 #include <cstdio>
 #include <thread>
 
+#include "mav_messages.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/replay_pacer.hpp"
-#include "mav_messages.hpp"
 
 namespace scanbus::sensor_replay {
 
@@ -99,7 +99,8 @@ class SensorReplay : public Service {
       const auto due = started + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                      std::chrono::duration<double>(step.due));
       for (auto now = std::chrono::steady_clock::now(); now < due; now = std::chrono::steady_clock::now()) {
-        const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(due - now) + std::chrono::milliseconds(1);
+        const auto wait =
+            std::chrono::duration_cast<std::chrono::milliseconds>(due - now) + std::chrono::milliseconds(1);
         if (StopSignal::wait_for(wait)) return false;
       }
       if (StopSignal::requested()) return false;

@@ -89,8 +89,8 @@ WindowReply Assembler::window(double begin, double end, const std::string& frame
   }
   if (reply.points.empty()) {
     reply.status = WindowReply::Empty;
-    reply.message = "no scans between " + std::to_string(begin) + " and " + std::to_string(end) + " (kept: " +
-                    std::to_string(window_.oldest()) + " to " + std::to_string(window_.newest()) + ")";
+    reply.message = "no scans between " + std::to_string(begin) + " and " + std::to_string(end) +
+                    " (kept: " + std::to_string(window_.oldest()) + " to " + std::to_string(window_.newest()) + ")";
   }
   return reply;
 }

@@ -61,8 +61,8 @@ std::vector<Eigen::Vector3f> ContinuousCloud::points() const {
 ScanWindow::ScanWindow(double max_age, size_t max_points) : max_age_(max_age), max_points_(max_points) {}
 
 void ScanWindow::add(double stamp, std::vector<Eigen::Vector3f> points) {
-  const auto later = std::upper_bound(scans_.begin(), scans_.end(), stamp,
-                                      [](double t, const auto& scan) { return t < scan.first; });
+  const auto later =
+      std::upper_bound(scans_.begin(), scans_.end(), stamp, [](double t, const auto& scan) { return t < scan.first; });
   points_ += points.size();
   scans_.insert(later, {stamp, std::move(points)});
   while (!scans_.empty() && (scans_.back().first - scans_.front().first > max_age_ || points_ > max_points_)) {
@@ -85,11 +85,20 @@ uint32_t height_colour(double z, double low, double high) {
   const double fraction = hue - std::floor(hue);
   double r = 0, g = 0, b = 0;
   switch (static_cast<int>(std::floor(hue))) {
-    case 0: r = 1, g = fraction; break;
-    case 1: r = 1 - fraction, g = 1; break;
-    case 2: g = 1, b = fraction; break;
-    case 3: g = 1 - fraction, b = 1; break;
-    default: b = 1;
+    case 0:
+      r = 1, g = fraction;
+      break;
+    case 1:
+      r = 1 - fraction, g = 1;
+      break;
+    case 2:
+      g = 1, b = fraction;
+      break;
+    case 3:
+      g = 1 - fraction, b = 1;
+      break;
+    default:
+      b = 1;
   }
   const auto byte = [](double v) { return static_cast<uint32_t>(std::lround(v * 255)); };
   return byte(r) << 16 | byte(g) << 8 | byte(b);

@@ -74,7 +74,7 @@ TEST(Assembler, FramesNoTransformJoinsAreSaidOnceAfterASecond) {
 TEST(Assembler, AMessagesTransformsAreAllInBeforeAnyScanIsTimedOut) {
   Assembler assembler(settings());  // transform_timeout 2 s
   assembler.add_static("base_link", "laser", up(0));
-  assembler.add_scan("laser", scan_at(1.0), 0);     // waits: nothing joins map and base_link yet
+  assembler.add_scan("laser", scan_at(1.0), 0);  // waits: nothing joins map and base_link yet
   assembler.add_transform("map", "odom", 0.0, up(0));
   assembler.add_transform("map", "odom", 5.0, up(0));        // 4 s newer than the scan
   assembler.add_transform("odom", "base_link", 0.0, up(1));  // the message's last two complete the chain

@@ -43,9 +43,9 @@ TEST(ElevationGrid, CellsHoldTheMeanHeightAndSpreadOfTheirPoints) {
 }
 
 TEST(ElevationGrid, SparseCellsAndNonFinitePointsAreLeftOut) {
-  std::vector<Eigen::Vector3f> points = {{0.1f, 0.1f, 1}, {0.2f, 0.2f, 3}, {0.3f, 0.3f, 2},  // cell (0, 0)
-                                         {1.1f, 0.1f, 5},                                     // alone in its cell
-                                         {NAN, 0.0f, 9}, {0.0f, INFINITY, 9}};
+  std::vector<Eigen::Vector3f> points = {{0.1f, 0.1f, 1}, {0.2f, 0.2f, 3},    {0.3f, 0.3f, 2},  // cell (0, 0)
+                                         {1.1f, 0.1f, 5},                                       // alone in its cell
+                                         {NAN, 0.0f, 9},  {0.0f, INFINITY, 9}};
   const auto grid = grid_elevation(points, {1.0, 3});
   ASSERT_EQ(grid.columns, 2u);
   ASSERT_EQ(grid.rows, 1u);

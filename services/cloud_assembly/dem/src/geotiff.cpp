@@ -1,11 +1,11 @@
 #include "scanbus/cloud_dem/geotiff.hpp"
 
-#include <GeographicLib/LocalCartesian.hpp>
 #include <cpl_conv.h>
 #include <cpl_error.h>
 #include <cpl_string.h>
 #include <gdal_priv.h>
 #include <ogr_spatialref.h>
+#include <GeographicLib/LocalCartesian.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -72,7 +72,8 @@ void write_band(GDALDataset& dataset, int number, const char* name, const char* 
 void write_geotiff(const std::string& path, const cloud_assembly::ElevationGrid& grid, const GeoOrigin& origin) {
   if (!(std::abs(origin.latitude) <= 90) || !(std::abs(origin.longitude) <= 180) || !std::isfinite(origin.altitude))
     throw GeoTiffError("origin " + std::to_string(origin.latitude) + ", " + std::to_string(origin.longitude) + ", " +
-                       std::to_string(origin.altitude) + ": latitude must be within +-90 degrees, longitude +-180, altitude finite");
+                       std::to_string(origin.altitude) +
+                       ": latitude must be within +-90 degrees, longitude +-180, altitude finite");
   if (grid.columns == 0 || grid.rows == 0) throw GeoTiffError(path + ": the grid has no cells");
   static std::once_flag registered;
   std::call_once(registered, [] { GDALAllRegister(); });
@@ -90,7 +91,8 @@ void write_geotiff(const std::string& path, const cloud_assembly::ElevationGrid&
   CSLDestroy(options);
   if (!dataset) throw GeoTiffError(path + ": cannot create: " + gdal_message());
   double transform[6] = {grid.west, grid.cell_size, 0, grid.north, 0, -grid.cell_size};
-  if (dataset->SetGeoTransform(transform) != CE_None || dataset->SetProjection(projection_wkt(origin).c_str()) != CE_None)
+  if (dataset->SetGeoTransform(transform) != CE_None ||
+      dataset->SetProjection(projection_wkt(origin).c_str()) != CE_None)
     throw GeoTiffError(path + ": cannot georeference: " + gdal_message());
   char origin_text[96];  // 1e-9 degrees: 0.1 mm
   std::snprintf(origin_text, sizeof origin_text, "%.9f %.9f %.4f", origin.latitude, origin.longitude, origin.altitude);

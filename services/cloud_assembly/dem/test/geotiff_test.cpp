@@ -61,8 +61,10 @@ TEST(GeoTiff, ReadsBackGeoreferencedWithHeightsOnTheEllipsoid) {
   EXPECT_NEAR((x - origin.longitude) * kMetresPerDegree * std::cos(origin.latitude * M_PI / 180), -1000.0, 3.0);
 
   std::vector<float> heights(200 * 40), spread(200 * 40);
-  ASSERT_EQ(dataset->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, 200, 40, heights.data(), 200, 40, GDT_Float32, 0, 0), CE_None);
-  ASSERT_EQ(dataset->GetRasterBand(2)->RasterIO(GF_Read, 0, 0, 200, 40, spread.data(), 200, 40, GDT_Float32, 0, 0), CE_None);
+  ASSERT_EQ(dataset->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, 200, 40, heights.data(), 200, 40, GDT_Float32, 0, 0),
+            CE_None);
+  ASSERT_EQ(dataset->GetRasterBand(2)->RasterIO(GF_Read, 0, 0, 200, 40, spread.data(), 200, 40, GDT_Float32, 0, 0),
+            CE_None);
   EXPECT_STREQ(dataset->GetRasterBand(1)->GetDescription(), "height");
   int has_nodata = 0;
   EXPECT_TRUE(std::isnan(dataset->GetRasterBand(1)->GetNoDataValue(&has_nodata)));

@@ -15,16 +15,15 @@ inline builtin_interfaces::msg::Time to_stamp(double seconds) {
   return stamp;
 }
 
-inline double to_seconds(const builtin_interfaces::msg::Time& stamp) {
-  return stamp.sec() + stamp.nanosec() * 1e-9;
-}
+inline double to_seconds(const builtin_interfaces::msg::Time& stamp) { return stamp.sec() + stamp.nanosec() * 1e-9; }
 
 inline builtin_interfaces::msg::Time now_stamp() {
   const auto since_epoch = std::chrono::system_clock::now().time_since_epoch();
   builtin_interfaces::msg::Time stamp;
   const auto seconds = std::chrono::duration_cast<std::chrono::seconds>(since_epoch);
   stamp.sec(static_cast<int32_t>(seconds.count()));
-  stamp.nanosec(static_cast<uint32_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(since_epoch - seconds).count()));
+  stamp.nanosec(
+      static_cast<uint32_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(since_epoch - seconds).count()));
   return stamp;
 }
 

@@ -95,16 +95,14 @@ eprosima::fastdds::dds::DataReaderQos reader_qos(const QosSettings& qos);
 
 // Fast DDS entity creation that throws instead of returning nullptr.
 eprosima::fastdds::dds::DataWriter* create_writer(Participant& participant, const std::string& topic,
-                                                  eprosima::fastdds::dds::TopicDataType* type,
-                                                  const QosSettings& qos);
+                                                  eprosima::fastdds::dds::TopicDataType* type, const QosSettings& qos);
 // With Fast DDS's own QoS, for what QosSettings does not say (a bounded KEEP_ALL queue).
 eprosima::fastdds::dds::DataWriter* create_writer(Participant& participant, const std::string& topic,
                                                   eprosima::fastdds::dds::TopicDataType* type,
                                                   const eprosima::fastdds::dds::DataWriterQos& qos,
                                                   const std::string& qos_text = "its own QoS");
 eprosima::fastdds::dds::DataReader* create_reader(Participant& participant, const std::string& topic,
-                                                  eprosima::fastdds::dds::TopicDataType* type,
-                                                  const QosSettings& qos,
+                                                  eprosima::fastdds::dds::TopicDataType* type, const QosSettings& qos,
                                                   eprosima::fastdds::dds::DataReaderListener* listener);
 void delete_writer(Participant& participant, eprosima::fastdds::dds::DataWriter* writer);
 void delete_reader(Participant& participant, eprosima::fastdds::dds::DataReader* reader);
@@ -118,14 +116,11 @@ class Writer {
   Writer(Participant& participant, const Topic<PubSubType>& topic) : Writer(participant, std::string(topic.name)) {}
   Writer(Participant& participant, const Topic<PubSubType>& topic, const QosSettings& qos)
       : Writer(participant, std::string(topic.name), qos) {}
-  Writer(Participant& participant, const std::string& topic)
-      : Writer(participant, topic, participant.qos(topic)) {}
+  Writer(Participant& participant, const std::string& topic) : Writer(participant, topic, participant.qos(topic)) {}
   Writer(Participant& participant, const std::string& topic, const QosSettings& qos)
-      : participant_(participant), topic_(topic),
-        writer_(create_writer(participant, topic, new PubSubType(), qos)) {}
+      : participant_(participant), topic_(topic), writer_(create_writer(participant, topic, new PubSubType(), qos)) {}
   Writer(Participant& participant, const std::string& topic, const eprosima::fastdds::dds::DataWriterQos& qos)
-      : participant_(participant), topic_(topic),
-        writer_(create_writer(participant, topic, new PubSubType(), qos)) {}
+      : participant_(participant), topic_(topic), writer_(create_writer(participant, topic, new PubSubType(), qos)) {}
   ~Writer() { delete_writer(participant_, writer_); }
   Writer(const Writer&) = delete;
   Writer& operator=(const Writer&) = delete;
@@ -187,7 +182,9 @@ class Reader : private eprosima::fastdds::dds::DataReaderListener {
   // With a type object of its own (owned from here on): the recorder's raw bytes under any name.
   Reader(Participant& participant, const std::string& topic, eprosima::fastdds::dds::TopicDataType* type,
          const QosSettings& qos, Handler handler)
-      : participant_(participant), topic_(topic), handler_(std::move(handler)),
+      : participant_(participant),
+        topic_(topic),
+        handler_(std::move(handler)),
         reader_(create_reader(participant, topic, type, qos, this)) {}
   ~Reader() { delete_reader(participant_, reader_); }
   Reader(const Reader&) = delete;

@@ -12,7 +12,7 @@
 namespace scanbus {
 
 struct Grant {
-  std::string identity;  // the certificate's CN
+  std::string identity;                         // the certificate's CN
   std::vector<std::string> publish, subscribe;  // DDS topic names, or "*"
 };
 

@@ -19,7 +19,8 @@ sensor_msgs::msg::PointCloud2 to_point_cloud2(const std::vector<CloudPoint>& poi
 // x y z rgb (rgb as PCL packs it: 0x00RRGGBB in the bytes of a float32), the layout RViz2
 // and Foxglove colour by. `colours` has one entry per point.
 sensor_msgs::msg::PointCloud2 to_coloured_point_cloud2(const std::vector<Eigen::Vector3f>& points,
-                                                       const std::vector<uint32_t>& colours, const std::string& frame_id,
+                                                       const std::vector<uint32_t>& colours,
+                                                       const std::string& frame_id,
                                                        const builtin_interfaces::msg::Time& stamp);
 
 // Throws std::invalid_argument naming what is wrong (missing x/y/z, not float32, short data).

@@ -59,7 +59,7 @@ class HealthReporter {
  private:
   void loop();
   std::atomic<uint64_t>& find_counter(const std::string& name);  // mutex_ held
-  std::string note_losses();  // mutex_ held; what to log, if anything
+  std::string note_losses();                                     // mutex_ held; what to log, if anything
 
   std::vector<const Participant*> watched_;  // whose losses are counted
   std::shared_ptr<spdlog::logger> log_;

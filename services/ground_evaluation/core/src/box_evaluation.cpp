@@ -2,12 +2,12 @@
 
 #include <ceres/ceres.h>
 #include <glog/logging.h>
-#include <Eigen/Eigenvalues>
 #include <pcl/ModelCoefficients.h>
 #include <pcl/point_types.h>
 #include <pcl/search/kdtree.h>
 #include <pcl/segmentation/extract_clusters.h>
 #include <pcl/segmentation/sac_segmentation.h>
+#include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
@@ -40,7 +40,7 @@ struct BlurredSpread {
       const T mass = T(0.5) * (erf((T(x) - a) * scale) - erf((T(x) - b) * scale));
       cost[0] -= log((T(1) - stray) * mass / (b - a) + stray / T(span) + T(1e-12));
     }
-    using std::isfinite;  // and ceres::isfinite for Jets, found by argument
+    using std::isfinite;       // and ceres::isfinite for Jets, found by argument
     return isfinite(cost[0]);  // a non-finite value or gradient: the line search steps back
   }
   std::vector<double> along;
@@ -107,7 +107,8 @@ bool fit_ground(const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud, double thresho
   segmentation.segment(inliers, coefficients);
   if (inliers.indices.empty() || coefficients.values.size() != 4) return false;
   if (inliers_out) *inliers_out = std::move(inliers);
-  plane = Eigen::Vector4d(coefficients.values[0], coefficients.values[1], coefficients.values[2], coefficients.values[3]);
+  plane =
+      Eigen::Vector4d(coefficients.values[0], coefficients.values[1], coefficients.values[2], coefficients.values[3]);
   plane /= plane.head<3>().norm();
   if (plane.z() < 0) plane = -plane;  // height above it is positive
   return true;
@@ -153,9 +154,9 @@ class LocalGround {
 
  private:
   using Cell = std::pair<long, long>;
-  static constexpr double kCell = 0.5;          // m
-  static constexpr long kReach = 2;             // cells each way: the plane is fitted over 2.5 m x 2.5 m
-  static constexpr size_t kLeastPoints = 50;    // in those cells
+  static constexpr double kCell = 0.5;        // m
+  static constexpr long kReach = 2;           // cells each way: the plane is fitted over 2.5 m x 2.5 m
+  static constexpr size_t kLeastPoints = 50;  // in those cells
   static Cell cell_of(const pcl::PointXYZ& p) {
     return {static_cast<long>(std::floor(p.x / kCell)), static_cast<long>(std::floor(p.y / kCell))};
   }
@@ -309,7 +310,8 @@ BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double t
   // width/length ratio P measures is left free.)
   const auto size_mismatch = [&](const pcl::PointIndices& cluster) {
     Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    for (int index : cluster.indices) mean += (*above)[static_cast<size_t>(index)].getVector3fMap().head<2>().cast<double>();
+    for (int index : cluster.indices)
+      mean += (*above)[static_cast<size_t>(index)].getVector3fMap().head<2>().cast<double>();
     mean /= static_cast<double>(cluster.indices.size());
     Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
     for (int index : cluster.indices) {
@@ -318,7 +320,8 @@ BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double t
     }
     scatter /= static_cast<double>(cluster.indices.size());
     // An even spread over a w x l rectangle has variances w^2/12 and l^2/12.
-    const Eigen::Vector2d variances = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(scatter).eigenvalues().cwiseMax(1e-12);
+    const Eigen::Vector2d variances =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(scatter).eigenvalues().cwiseMax(1e-12);
     const double area = 12 * std::sqrt(variances.x() * variances.y());
     return std::abs(std::log(area / (truth_width * truth_length)));
   };
@@ -337,7 +340,8 @@ BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double t
     const Top box_top = top_of(*above, cluster, settings.top_band);
     const Footprint footprint = fit_footprint(box_top.points, settings.noise);
     BoxMeasurement box;
-    const Eigen::Vector3d middle = box_top.origin + footprint.centre.x() * box_top.e1 + footprint.centre.y() * box_top.e2;
+    const Eigen::Vector3d middle =
+        box_top.origin + footprint.centre.x() * box_top.e1 + footprint.centre.y() * box_top.e2;
     box.centre = (middle + centre).head<2>();
     const Eigen::Vector3d length_axis = std::cos(footprint.yaw) * box_top.e1 + std::sin(footprint.yaw) * box_top.e2;
     box.yaw = std::remainder(std::atan2(length_axis.y(), length_axis.x()), M_PI);

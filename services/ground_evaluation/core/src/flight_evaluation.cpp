@@ -34,7 +34,8 @@ void grid_fused_cloud(const FlightEvaluationSettings& settings, FlightEvaluation
   if (!result.has_ground) return;
   std::vector<Eigen::Vector3f> cells;
   for (const auto& cell : result.elevation.filled_cells()) cells.push_back(cell.top);
-  result.elevation_error = ground_model_error(cells, cell_average_truth(settings.true_ground, settings.elevation.cell_size));
+  result.elevation_error =
+      ground_model_error(cells, cell_average_truth(settings.true_ground, settings.elevation.cell_size));
 }
 
 }  // namespace
@@ -42,7 +43,8 @@ void grid_fused_cloud(const FlightEvaluationSettings& settings, FlightEvaluation
 std::function<std::optional<double>(const Eigen::Vector2d&)> cell_average_truth(
     std::function<std::optional<double>(const Eigen::Vector2d&)> true_ground, double cell_size) {
   const int samples = std::max(5, static_cast<int>(std::ceil(cell_size / 0.1)));
-  return [true_ground = std::move(true_ground), cell_size, samples](const Eigen::Vector2d& centre) -> std::optional<double> {
+  return [true_ground = std::move(true_ground), cell_size,
+          samples](const Eigen::Vector2d& centre) -> std::optional<double> {
     double sum = 0;
     for (int i = 0; i < samples; ++i)
       for (int j = 0; j < samples; ++j) {
@@ -139,7 +141,8 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
   const HeightSeries truth = HeightSeries::truth_of(log);
   HeightSeries barometer, gps;
   for (const auto& record : log.baros) barometer.add(record.stamp, estimator.barometric_height(record.pressure));
-  for (const auto& fix : log.fixes) gps.add(fix.stamp, estimator.map_position(fix.latitude, fix.longitude, fix.altitude).z());
+  for (const auto& fix : log.fixes)
+    gps.add(fix.stamp, estimator.map_position(fix.latitude, fix.longitude, fix.altitude).z());
   const int sources = log.fixes.empty() ? kHeightSources - 1 : kHeightSources;  // GPS last
 
   FlightEvaluation result;
@@ -159,9 +162,11 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
       const double heights[kHeightSources] = {baro, *integrated, pose.position.z(),
                                               log.fixes.empty() ? NAN : gps.at(pose.stamp)};
       const double true_height = truth.at(pose.stamp);
-      result.heights.push_back(
-          {pose.stamp, true_height, {heights[0], heights[1], heights[2], heights[3]}, pose.clearance.value_or(NAN),
-           pose.position_sigma.z()});
+      result.heights.push_back({pose.stamp,
+                                true_height,
+                                {heights[0], heights[1], heights[2], heights[3]},
+                                pose.clearance.value_or(NAN),
+                                pose.position_sigma.z()});
       const auto points = cloud_assembly::scan_points(scan_data(log.lasers[found->second]), settings.gating);
       for (int source = 0; source < sources; ++source) {
         Eigen::Isometry3d body = Eigen::Isometry3d::Identity();
@@ -180,13 +185,18 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
   for (size_t e = 0; e < records.size(); ++e) {
     const auto& record = records[e];
     switch (record.kind) {
-      case sensor_replay::RecordKind::Imu: estimator.add_imu(record.stamp, log.imus[record.index].orientation); break;
+      case sensor_replay::RecordKind::Imu:
+        estimator.add_imu(record.stamp, log.imus[record.index].orientation);
+        break;
       case sensor_replay::RecordKind::Gps: {
         const auto& fix = log.fixes[record.index];
-        estimator.add_fix(fix.stamp, fix.latitude, fix.longitude, fix.altitude, fix.horizontal_sigma, fix.vertical_sigma);
+        estimator.add_fix(fix.stamp, fix.latitude, fix.longitude, fix.altitude, fix.horizontal_sigma,
+                          fix.vertical_sigma);
         break;
       }
-      case sensor_replay::RecordKind::Baro: estimator.add_pressure(record.stamp, log.baros[record.index].pressure); break;
+      case sensor_replay::RecordKind::Baro:
+        estimator.add_pressure(record.stamp, log.baros[record.index].pressure);
+        break;
       case sensor_replay::RecordKind::Laser: {
         const auto& laser = log.lasers[record.index];
         estimator.add_scan(laser.stamp, laser.angle_min, laser.angle_increment, laser.range_min, laser.range_max,
@@ -200,7 +210,8 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
         estimator.add_match(record.stamp, increment);
         break;
       }
-      case sensor_replay::RecordKind::Truth: continue;
+      case sensor_replay::RecordKind::Truth:
+        continue;
     }
     take_poses(false);
     if (progress && e % 2000 == 0) progress(e, records.size());
@@ -224,7 +235,8 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
   result.fusion_ms_per_update = result.poses ? fusion_time.count() * 1000 / static_cast<double>(result.poses) : 0;
   result.has_ground = static_cast<bool>(settings.true_ground);
   if (result.has_ground)
-    for (int source = 0; source < sources; ++source) result.ground[source] = ground_model_error(result.cloud[source], settings.true_ground);
+    for (int source = 0; source < sources; ++source)
+      result.ground[source] = ground_model_error(result.cloud[source], settings.true_ground);
   grid_fused_cloud(settings, result);
   const auto boxes = log.meta.find("boxes");
   result.has_boxes = boxes != log.meta.end() && boxes->second.size() >= 2;

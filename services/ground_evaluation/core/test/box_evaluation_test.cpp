@@ -15,10 +15,10 @@ namespace {
 // (length along their yaw) raising the points on their tops; 1 cm noise.
 // `ground` under the scene (level by default) over `extent` (x from, x to, half width in y);
 // a box's top is level, `size.z()` above the ground under its centre.
-std::vector<Eigen::Vector3f> scene(const std::vector<std::pair<Eigen::Vector3d, double>>& boxes,
-                                   const Eigen::Vector3d& size, double noise,
-                                   const std::function<double(double, double)>& ground = [](double, double) { return 0.0; },
-                                   const Eigen::Vector3d& extent = {1, 7, 1.5}) {
+std::vector<Eigen::Vector3f> scene(
+    const std::vector<std::pair<Eigen::Vector3d, double>>& boxes, const Eigen::Vector3d& size, double noise,
+    const std::function<double(double, double)>& ground = [](double, double) { return 0.0; },
+    const Eigen::Vector3d& extent = {1, 7, 1.5}) {
   std::mt19937 random(7);
   std::normal_distribution<double> gauss(0, noise);
   std::vector<Eigen::Vector3f> cloud;
@@ -45,7 +45,8 @@ TEST(Footprint, RecoversARotatedRectangle) {
   std::uniform_real_distribution<double> a(-0.3, 0.3), b(-0.2, 0.2);
   std::vector<Eigen::Vector2d> points;
   const double yaw = 0.3;
-  for (int i = 0; i < 2000; ++i) points.push_back(Eigen::Rotation2Dd(yaw) * Eigen::Vector2d(a(random), b(random)) + Eigen::Vector2d(4, 1));
+  for (int i = 0; i < 2000; ++i)
+    points.push_back(Eigen::Rotation2Dd(yaw) * Eigen::Vector2d(a(random), b(random)) + Eigen::Vector2d(4, 1));
   const Footprint footprint = fit_footprint(points, 0.02);
   EXPECT_NEAR(footprint.length, 0.6, 0.005);
   EXPECT_NEAR(footprint.width, 0.4, 0.005);

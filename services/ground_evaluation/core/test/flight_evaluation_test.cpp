@@ -97,7 +97,8 @@ TEST(GroundModelError, ComparesTheCloudsTiltWithTheTerrains) {
   EXPECT_NEAR(error.true_slope.y(), -0.02, 1e-9);
   EXPECT_NEAR(error.slope.x(), 0.045, 1e-6);
   EXPECT_NEAR(error.slope_error, 0.1, 1e-5);
-  const GroundModelError level = ground_model_error(cloud, [](const Eigen::Vector2d&) { return std::optional<double>(0.0); });
+  const GroundModelError level =
+      ground_model_error(cloud, [](const Eigen::Vector2d&) { return std::optional<double>(0.0); });
   EXPECT_TRUE(std::isnan(level.slope_error));
   EXPECT_NEAR(level.slope.x(), 0.045, 1e-6);
 }
@@ -138,7 +139,8 @@ TEST(FlightEvaluation, TheElevationGridFollowsTheTerrain) {
   ASSERT_GT(grid.filled(), 50u);
   size_t counted = 0;
   for (uint32_t count : grid.count) counted += count;
-  EXPECT_GT(counted, result.cloud[static_cast<int>(HeightSource::Fused)].size() * 9 / 10);  // sparse edge cells left out
+  EXPECT_GT(counted,
+            result.cloud[static_cast<int>(HeightSource::Fused)].size() * 9 / 10);  // sparse edge cells left out
   const auto& error = result.elevation_error;
   std::printf("elevation grid: %zu cells, RMSE %.3f m, p95 %.3f m, bias %+.3f m, slope %.4f %.4f (true %.4f %.4f)\n",
               error.points, error.rmse, error.p95, error.bias, error.slope.x(), error.slope.y(), error.true_slope.x(),

@@ -51,7 +51,8 @@ Eigen::Vector3d pattern_position(const FlightSettings& s, double t) {
       return {5 - 5 * std::cos(2 * M_PI * t / 20), wave(0.3, 37, t), h + wave(1.5, 90, t)};
     case FlightPattern::hover_turn:
       return {4 + wave(0.1, 17, t), wave(0.1, 13, t, 1), h + wave(0.1, 11, t)};
-    case FlightPattern::paper: break;
+    case FlightPattern::paper:
+      break;
   }
   return Eigen::Vector3d::Zero();
 }
@@ -77,10 +78,14 @@ Eigen::Vector3d scenario_disturbance(const FlightSettings& s, double t) {
   if (s.pattern == FlightPattern::hover_turn) return {0, 0, std::remainder(2 * M_PI * t / 18, 2 * M_PI)};
   if (s.pattern != FlightPattern::paper) return {0, 0, wave(0.05, 50, t)};
   switch (s.scenario) {
-    case 1: return {0, 0, wave(0.05, 50, t)};
-    case 2: return {(wave(12, 2.0, t) + wave(5, 0.77, t, 0.7)) * kDegree, wave(3, 2.5, t) * kDegree, wave(0.3, 40, t)};
-    case 3: return {wave(3, 3.3, t) * kDegree, wave(3, 4.1, t, 1) * kDegree, wave(0.4, 45, t)};
-    default: return {0, 0, wave(0.03, 50, t)};
+    case 1:
+      return {0, 0, wave(0.05, 50, t)};
+    case 2:
+      return {(wave(12, 2.0, t) + wave(5, 0.77, t, 0.7)) * kDegree, wave(3, 2.5, t) * kDegree, wave(0.3, 40, t)};
+    case 3:
+      return {wave(3, 3.3, t) * kDegree, wave(3, 4.1, t, 1) * kDegree, wave(0.4, 45, t)};
+    default:
+      return {0, 0, wave(0.03, 50, t)};
   }
 }
 
@@ -98,7 +103,8 @@ void validate(const FlightSettings& s) {
   check(s.noise.gps_velocity_time > 0 && s.noise.gps_wander_time > 0, "GPS correlation times must be positive");
   check(s.noise.baro_wash_time > 0 && s.noise.baro_warmup_time > 0, "barometer correlation times must be positive");
   check(s.noise_scale >= 0 && s.noise_scale <= 10, "noise scale must be 0 to 10");
-  check(s.laser.field_of_view > 0 && s.laser.field_of_view <= 2 * M_PI, "laser field of view must be in (0, 360] degrees");
+  check(s.laser.field_of_view > 0 && s.laser.field_of_view <= 2 * M_PI,
+        "laser field of view must be in (0, 360] degrees");
   check(s.laser.step > 1e-4 && s.laser.field_of_view / s.laser.step < 20000, "laser step too small");
   if (const auto problem = terrain_problem(s.terrain)) throw std::invalid_argument("terrain: " + problem->message());
 }
@@ -162,9 +168,11 @@ void write_terrain(const Terrain& terrain, std::map<std::string, std::vector<dou
   for (const Mound& m : terrain.mounds)
     meta["terrain_mounds"].insert(meta["terrain_mounds"].end(), {m.centre.x(), m.centre.y(), m.radius, m.height});
   for (const Step& st : terrain.steps)
-    meta["terrain_steps"].insert(meta["terrain_steps"].end(), {st.at.x(), st.at.y(), st.direction, st.height, st.width});
+    meta["terrain_steps"].insert(meta["terrain_steps"].end(),
+                                 {st.at.x(), st.at.y(), st.direction, st.height, st.width});
   if (terrain.roughness > 0)
-    meta["terrain_roughness"] = {terrain.roughness, terrain.roughness_wavelength, static_cast<double>(terrain.roughness_seed)};
+    meta["terrain_roughness"] = {terrain.roughness, terrain.roughness_wavelength,
+                                 static_cast<double>(terrain.roughness_seed)};
 }
 
 Terrain read_terrain(const sensor_replay::MavLog& log) {
@@ -173,7 +181,8 @@ Terrain read_terrain(const sensor_replay::MavLog& log) {
     const auto found = log.meta.find(name);
     if (found == log.meta.end()) return {};
     if (found->second.size() % group != 0 || found->second.empty())
-      throw sensor_replay::MavLogError(std::string("META ") + name + " needs groups of " + std::to_string(group) + " values");
+      throw sensor_replay::MavLogError(std::string("META ") + name + " needs groups of " + std::to_string(group) +
+                                       " values");
     return found->second;
   };
   if (const auto v = values("terrain_slope", 2); !v.empty()) terrain.slope = {v[0], v[1]};
@@ -186,10 +195,12 @@ Terrain read_terrain(const sensor_replay::MavLog& log) {
     terrain.steps.push_back({{steps[i], steps[i + 1]}, steps[i + 2], steps[i + 3], steps[i + 4]});
   }
   if (const auto v = values("terrain_roughness", 3); !v.empty()) {
-    if (!(v[2] >= 0 && v[2] <= 4294967295.0)) throw sensor_replay::MavLogError("META terrain_roughness: the seed is out of range");
+    if (!(v[2] >= 0 && v[2] <= 4294967295.0))
+      throw sensor_replay::MavLogError("META terrain_roughness: the seed is out of range");
     terrain.roughness = v[0], terrain.roughness_wavelength = v[1], terrain.roughness_seed = static_cast<unsigned>(v[2]);
   }
-  if (const auto problem = terrain_problem(terrain)) throw sensor_replay::MavLogError("META terrain: " + problem->message());
+  if (const auto problem = terrain_problem(terrain))
+    throw sensor_replay::MavLogError("META terrain: " + problem->message());
   return terrain;
 }
 
@@ -201,8 +212,10 @@ void check_clearance(const FlightSettings& s, const GroundWorld& world) {
     const double ground = world.height_at(at.head<2>());
     if (ground > at.z() - kClearance) {
       char what[160];
-      std::snprintf(what, sizeof what, "the terrain rises to %.2f m under the MAV at (%.2f, %.2f) at t = %.1f s, "
-                    "within %.1f m of its altitude %.2f m", ground, at.x(), at.y(), t, kClearance, at.z());
+      std::snprintf(what, sizeof what,
+                    "the terrain rises to %.2f m under the MAV at (%.2f, %.2f) at t = %.1f s, "
+                    "within %.1f m of its altitude %.2f m",
+                    ground, at.x(), at.y(), t, kClearance, at.z());
       throw std::invalid_argument(what);
     }
   }
@@ -210,12 +223,15 @@ void check_clearance(const FlightSettings& s, const GroundWorld& world) {
 
 }  // namespace
 
-Eigen::Isometry3d laser_in_body(const LaserSettings& laser) { return transforms::from_xyz_rpy(laser.position, laser.rpy); }
+Eigen::Isometry3d laser_in_body(const LaserSettings& laser) {
+  return transforms::from_xyz_rpy(laser.position, laser.rpy);
+}
 
 std::optional<GroundWorld> world_of_log(const sensor_replay::MavLog& log) {
   const auto scenario = log.meta.find("scenario");
   if (scenario == log.meta.end() || scenario->second.size() != 1) return std::nullopt;
-  if (!(scenario->second[0] >= 1 && scenario->second[0] <= 4)) throw sensor_replay::MavLogError("META scenario is not 1 to 4");
+  if (!(scenario->second[0] >= 1 && scenario->second[0] <= 4))
+    throw sensor_replay::MavLogError("META scenario is not 1 to 4");
   FlightSettings settings;
   settings.scenario = static_cast<int>(scenario->second[0]);
   if (settings.scenario == 4) {
@@ -250,7 +266,8 @@ sensor_replay::MavLog simulate_flight(const FlightSettings& settings) {
   // The flight's own errors, drawn once: the laser as mounted and its range offset, the
   // barometer's offset at take-off, its warm-up drift and the weather's trend.
   const double range_bias = s.laser.range_bias * gauss(random);
-  const double misaligned_roll = s.laser.misalignment * gauss(random), misaligned_pitch = s.laser.misalignment * gauss(random);
+  const double misaligned_roll = s.laser.misalignment * gauss(random),
+               misaligned_pitch = s.laser.misalignment * gauss(random);
   const Eigen::Isometry3d mount =
       laser_in_body(s.laser) * from_rpy(misaligned_roll, misaligned_pitch, s.laser.misalignment * gauss(random));
   const double baro_takeoff = s.noise.baro_takeoff * gauss(random), baro_warmup = s.noise.baro_warmup * gauss(random),
@@ -260,7 +277,7 @@ sensor_replay::MavLog simulate_flight(const FlightSettings& settings) {
   log.meta["scenario"] = {static_cast<double>(s.scenario)};
   log.meta["origin"] = {s.origin.x(), s.origin.y(), s.origin.z()};
   log.meta["laser_mount"] = {s.laser.position.x(), s.laser.position.y(), s.laser.position.z(),
-                             s.laser.rpy.x(), s.laser.rpy.y(), s.laser.rpy.z()};
+                             s.laser.rpy.x(),      s.laser.rpy.y(),      s.laser.rpy.z()};
   if (s.scenario == 4) log.meta["boxes"] = {s.box_size.x(), s.box_size.y(), s.box_size.z()};
   write_terrain(s.terrain, log.meta);
 
@@ -293,7 +310,8 @@ sensor_replay::MavLog simulate_flight(const FlightSettings& settings) {
   const double dt = 1 / s.noise.gps_rate, decay = std::exp(-dt / s.noise.gps_velocity_time);
   const auto wander_step = [&] {
     for (int axis = 0; axis < 3; ++axis) {
-      velocity_error[axis] = decay * velocity_error[axis] + velocity_sigma[axis] * std::sqrt(1 - decay * decay) * gauss(random);
+      velocity_error[axis] =
+          decay * velocity_error[axis] + velocity_sigma[axis] * std::sqrt(1 - decay * decay) * gauss(random);
       wander[axis] += (velocity_error[axis] - wander[axis] / s.noise.gps_wander_time) * dt;
     }
   };

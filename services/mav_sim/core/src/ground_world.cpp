@@ -14,7 +14,8 @@ double cast_box(const Box& box, const Eigen::Vector3d& origin, const Eigen::Vect
   const Eigen::Matrix3d to_box = Eigen::AngleAxisd(-box.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   const Eigen::Vector3d o = to_box * (origin - Eigen::Vector3d(box.centre.x(), box.centre.y(), box.base));
   const Eigen::Vector3d d = to_box * direction;
-  const Eigen::Vector3d low(-box.size.x() / 2, -box.size.y() / 2, 0), high(box.size.x() / 2, box.size.y() / 2, box.size.z());
+  const Eigen::Vector3d low(-box.size.x() / 2, -box.size.y() / 2, 0),
+      high(box.size.x() / 2, box.size.y() / 2, box.size.z());
   double near = 0, far = kNone;
   for (int axis = 0; axis < 3; ++axis) {
     if (std::abs(d[axis]) < 1e-12) {
@@ -32,7 +33,8 @@ double cast_box(const Box& box, const Eigen::Vector3d& origin, const Eigen::Vect
 
 }  // namespace
 
-GroundWorld::GroundWorld(std::vector<Box> boxes, Terrain terrain) : boxes_(std::move(boxes)), terrain_(std::move(terrain)) {
+GroundWorld::GroundWorld(std::vector<Box> boxes, Terrain terrain)
+    : boxes_(std::move(boxes)), terrain_(std::move(terrain)) {
   for (Box& box : boxes_) box.base = terrain_.height_at(box.centre);
 }
 

@@ -43,8 +43,7 @@ double TerrainSurface::height_at(const Eigen::Vector2d& xy) const {
     const double d = (xy - m.centre).norm();
     if (d < m.radius) z += m.height * (1 + std::cos(M_PI * d / m.radius)) / 2;
   }
-  for (const Step& s : terrain_.steps)
-    z += s.height * ramp(s.across(xy), s.width);
+  for (const Step& s : terrain_.steps) z += s.height * ramp(s.across(xy), s.width);
   for (const Wave& w : waves_) z += w.amplitude * std::sin(w.k.dot(xy) + w.phase);
   return z;
 }
@@ -72,22 +71,26 @@ double TerrainSurface::cast(const Eigen::Vector3d& origin, const Eigen::Vector3d
 
 std::optional<TerrainProblem> terrain_problem(const Terrain& t) {
   auto outside = [](double v, double low, double high) { return !(v >= low && v <= high); };
-  if (!t.slope.allFinite() || t.slope.norm() > 1) return TerrainProblem{"slope", "is steeper than 45 degrees: not ground a MAV maps"};
+  if (!t.slope.allFinite() || t.slope.norm() > 1)
+    return TerrainProblem{"slope", "is steeper than 45 degrees: not ground a MAV maps"};
   for (size_t i = 0; i < t.mounds.size(); ++i) {
     const std::string name = "mounds[" + std::to_string(i) + "]";
-    if (!t.mounds[i].centre.allFinite() || t.mounds[i].centre.norm() > 1e5) return TerrainProblem{name + ".centre", "is not a place on the map"};
+    if (!t.mounds[i].centre.allFinite() || t.mounds[i].centre.norm() > 1e5)
+      return TerrainProblem{name + ".centre", "is not a place on the map"};
     if (outside(t.mounds[i].radius, 0.05, 1000)) return TerrainProblem{name + ".radius", "must be 0.05 to 1000 m"};
     if (outside(t.mounds[i].height, -100, 100)) return TerrainProblem{name + ".height", "must be within 100 m"};
   }
   for (size_t i = 0; i < t.steps.size(); ++i) {
     const std::string name = "steps[" + std::to_string(i) + "]";
-    if (!t.steps[i].at.allFinite() || t.steps[i].at.norm() > 1e5) return TerrainProblem{name + ".at", "is not a place on the map"};
+    if (!t.steps[i].at.allFinite() || t.steps[i].at.norm() > 1e5)
+      return TerrainProblem{name + ".at", "is not a place on the map"};
     if (!std::isfinite(t.steps[i].direction)) return TerrainProblem{name + ".direction", "is not a number"};
     if (outside(t.steps[i].height, -100, 100)) return TerrainProblem{name + ".height", "must be within 100 m"};
     if (outside(t.steps[i].width, 0.001, 100)) return TerrainProblem{name + ".width", "must be 0.001 to 100 m"};
   }
   if (outside(t.roughness, 0, 1)) return TerrainProblem{"roughness", "must be 0 to 1 m RMS"};
-  if (outside(t.roughness_wavelength, 0.05, 100)) return TerrainProblem{"roughness_wavelength", "must be 0.05 to 100 m"};
+  if (outside(t.roughness_wavelength, 0.05, 100))
+    return TerrainProblem{"roughness_wavelength", "must be 0.05 to 100 m"};
   return std::nullopt;
 }
 
@@ -99,12 +102,15 @@ Terrain terrain_from_config(const Config& section) {
   }
   for (const Config& m : section.maps("mounds")) {
     const auto centre = m.numbers("centre", 2);
-    terrain.mounds.push_back({{centre[0], centre[1]}, m.number("radius", 1, -1e300, 1e300), m.number("height", 0.3, -1e300, 1e300)});
+    terrain.mounds.push_back(
+        {{centre[0], centre[1]}, m.number("radius", 1, -1e300, 1e300), m.number("height", 0.3, -1e300, 1e300)});
   }
   for (const Config& s : section.maps("steps")) {
     const auto at = s.numbers("at", 2);
-    terrain.steps.push_back({{at[0], at[1]}, s.number("direction", 0, -360, 360) * M_PI / 180,
-                             s.number("height", 0.2, -1e300, 1e300), s.number("width", 0.02, -1e300, 1e300)});
+    terrain.steps.push_back({{at[0], at[1]},
+                             s.number("direction", 0, -360, 360) * M_PI / 180,
+                             s.number("height", 0.2, -1e300, 1e300),
+                             s.number("width", 0.02, -1e300, 1e300)});
   }
   terrain.roughness = section.number("roughness", 0, -1e300, 1e300);
   terrain.roughness_wavelength = section.number("roughness_wavelength", 0.5, -1e300, 1e300);

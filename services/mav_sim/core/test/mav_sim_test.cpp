@@ -16,8 +16,8 @@ TEST(GroundWorld, RaysHitTheGroundAndTheBoxes) {
   const GroundWorld world({{{4, 0}, 0, {0.6, 0.4, 0.3}}});
   const Eigen::Vector3d down = -Eigen::Vector3d::UnitZ();
   EXPECT_NEAR(world.cast({0, 0, 3}, down), 3.0, 1e-12);
-  EXPECT_NEAR(world.cast({4, 0, 3}, down), 2.7, 1e-12);  // the box's top
-  EXPECT_NEAR(world.cast({4.35, 0, 3}, down), 3.0, 1e-12);  // just past its end
+  EXPECT_NEAR(world.cast({4, 0, 3}, down), 2.7, 1e-12);                        // the box's top
+  EXPECT_NEAR(world.cast({4.35, 0, 3}, down), 3.0, 1e-12);                     // just past its end
   EXPECT_NEAR(world.cast({0, 0, 0.1}, Eigen::Vector3d::UnitX()), 3.7, 1e-12);  // its near side
   EXPECT_TRUE(std::isinf(world.cast({0, 0, 3}, Eigen::Vector3d::UnitZ())));
   EXPECT_NEAR(world.height_at({4.1, 0.1}), 0.3, 1e-9);
@@ -28,7 +28,7 @@ TEST(Terrain, FeaturesAddUp) {
   Terrain terrain;
   terrain.slope = {0.05, -0.02};
   terrain.mounds = {{{10, 0}, 2, 0.4}, {{-10, 0}, 1, -0.3}};  // a mound and a ditch
-  terrain.steps = {{{0, 5}, M_PI / 2, 0.2, 0.02}};             // the ground 0.2 m higher north of y = 5
+  terrain.steps = {{{0, 5}, M_PI / 2, 0.2, 0.02}};            // the ground 0.2 m higher north of y = 5
   const TerrainSurface surface(terrain);
   EXPECT_NEAR(surface.height_at({0, 0}), 0, 1e-12);
   EXPECT_NEAR(surface.height_at({10, 0}), 0.5 + 0.4, 1e-12);
@@ -85,8 +85,8 @@ TEST(GroundWorld, BoxesStandOnTheTerrain) {
   Terrain terrain;
   terrain.slope = {0.1, 0};
   const GroundWorld world({{{4, 0}, 0, {0.6, 0.4, 0.3}}}, terrain);
-  EXPECT_NEAR(world.height_at({4, 0}), 0.4 + 0.3, 1e-9);       // the box's top over its centre's ground
-  EXPECT_NEAR(world.height_at({6, 0}), 0.6, 1e-9);             // the slope beside it
+  EXPECT_NEAR(world.height_at({4, 0}), 0.4 + 0.3, 1e-9);  // the box's top over its centre's ground
+  EXPECT_NEAR(world.height_at({6, 0}), 0.6, 1e-9);        // the slope beside it
   EXPECT_NEAR(world.cast({4, 0, 3}, -Eigen::Vector3d::UnitZ()), 3 - 0.7, 1e-9);
 }
 
@@ -115,7 +115,7 @@ TEST(GroundWorld, EdgesAreNotScored) {
   Terrain terrain;
   terrain.steps = {{{8, 0}, 0, 0.2, 0.02}};
   const GroundWorld world({{{4, 0}, 0, {0.6, 0.4, 0.3}}}, terrain);
-  EXPECT_NEAR(*world.scored_height({4, 0}, 0.1), 0.3, 1e-9);     // the box's top, 0.2 m inside
+  EXPECT_NEAR(*world.scored_height({4, 0}, 0.1), 0.3, 1e-9);      // the box's top, 0.2 m inside
   EXPECT_FALSE(world.scored_height({4.25, 0}, 0.1).has_value());  // 5 cm inside its end
   EXPECT_FALSE(world.scored_height({4.35, 0}, 0.1).has_value());  // 5 cm past it
   EXPECT_NEAR(*world.scored_height({4.45, 0}, 0.1), 0.0, 1e-9);
@@ -140,7 +140,8 @@ TEST(Flight, TheLogCarriesItsTrueGround) {
   ASSERT_TRUE(world.has_value());
   const GroundWorld truth = scenario_world(settings);
   for (double x = -2; x < 12; x += 0.37)
-    for (double y = -3; y < 3; y += 0.41) EXPECT_NEAR(world->height_at({x, y}), truth.height_at({x, y}), 1e-6) << x << " " << y;
+    for (double y = -3; y < 3; y += 0.41)
+      EXPECT_NEAR(world->height_at({x, y}), truth.height_at({x, y}), 1e-6) << x << " " << y;
   auto unknown = log;
   unknown.meta.erase("scenario");
   EXPECT_FALSE(world_of_log(unknown).has_value());
@@ -157,7 +158,8 @@ TEST(Terrain, FromYaml) {
   roughness: 0.02
   roughness_wavelength: 0.8
   seed: 7
-)", "terrain.yaml");
+)",
+                                      "terrain.yaml");
   const Terrain terrain = terrain_from_config(config.section("terrain"));
   config.check_all_read();
   EXPECT_EQ(terrain.mounds.size(), 2u);
@@ -345,7 +347,8 @@ TEST(Flight, TheGpsReportsTheSigmaItsErrorsHave) {
       reported = log.fixes.front().vertical_sigma;
     }
     const double rms = std::sqrt(squares / static_cast<double>(n));
-    std::printf("GPS mode %d: vertical error RMS %.3f m, reported sigma %.3f m\n", static_cast<int>(mode), rms, reported);
+    std::printf("GPS mode %d: vertical error RMS %.3f m, reported sigma %.3f m\n", static_cast<int>(mode), rms,
+                reported);
     EXPECT_GT(reported, reported_range.first);
     EXPECT_LT(reported, reported_range.second);
     EXPECT_GT(rms / reported, 0.7);

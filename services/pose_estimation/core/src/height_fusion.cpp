@@ -61,21 +61,26 @@ double HeightFusion::add_node(double stamp, std::optional<double> change, const 
   if (!first && change && !(saw_ground && previous_saw_ground_)) {
     // Over ground seen by both scans the change is that of the depth, which the cells
     // measure already: only without ground is it the height's.
-    residuals_.push_back({{nodes_.back().second, height}, {-1, 1}, *change, settings_.change_sigma,
+    residuals_.push_back({{nodes_.back().second, height},
+                          {-1, 1},
+                          *change,
+                          settings_.change_sigma,
                           settings_.change_loss / settings_.change_sigma});
   } else if (!first && !change) {
     // No change measured (a failed match, a blind laser): the height wanders as a random
     // walk between the nodes (whatever their rate), so it does not follow each barometer
     // sample's noise.
     const double dt = stamp - nodes_.back().first;
-    residuals_.push_back({{nodes_.back().second, height}, {-1, 1}, 0.0, std::max(settings_.height_walk * std::sqrt(dt), 1e-3)});
+    residuals_.push_back(
+        {{nodes_.back().second, height}, {-1, 1}, 0.0, std::max(settings_.height_walk * std::sqrt(dt), 1e-3)});
   }
   previous_saw_ground_ = saw_ground;
   nodes_.emplace_back(stamp, height);
   extend(biases_, stamp, settings_.initial_bias_sigma, settings_.bias_random_walk * std::sqrt(settings_.bias_spacing));
   if (gps_sigma_) {
     // A first-order Gauss-Markov wander of the fix's sigma: steps of sigma sqrt(2 dt / time).
-    extend(gps_biases_, stamp, *gps_sigma_, *gps_sigma_ * std::sqrt(2 * settings_.bias_spacing / settings_.gps_wander_time));
+    extend(gps_biases_, stamp, *gps_sigma_,
+           *gps_sigma_ * std::sqrt(2 * settings_.bias_spacing / settings_.gps_wander_time));
   }
   // Samples up to this node now have nodes on both sides (or at the first node).
   const auto up_to_node = [&](const Sample& sample) { return sample.stamp <= stamp; };
@@ -125,7 +130,10 @@ bool HeightFusion::add_ground(double stamp, long height, const std::vector<Groun
     const auto median = median_return(std::move(returns));
     const double fx = median->xy.x() / size - static_cast<double>(cell.first);
     const double fy = median->xy.y() / size - static_cast<double>(cell.second);
-    Linear residual{{height}, {1.0}, median->depth, settings_.clearance_sigma,
+    Linear residual{{height},
+                    {1.0},
+                    median->depth,
+                    settings_.clearance_sigma,
                     settings_.clearance_loss / settings_.clearance_sigma};
     const double initial = states_.at(height) - median->depth;
     bool known = true;
@@ -200,7 +208,8 @@ HeightFusion::Linear HeightFusion::interpolated(const Sample& sample, const Chai
 void HeightFusion::add_barometer_residual(const Sample& sample) {
   Linear residual = interpolated(sample, biases_);
   double estimate = 0;
-  for (size_t i = 0; i < residual.states.size(); ++i) estimate += residual.coefficients[i] * states_.at(residual.states[i]);
+  for (size_t i = 0; i < residual.states.size(); ++i)
+    estimate += residual.coefficients[i] * states_.at(residual.states[i]);
   // 5 sigma of the sample and of the estimate: a height uncertain for want of changes (a
   // blind laser) widens the gate rather than shutting the barometer out.
   if (std::abs(sample.value - estimate) <= 5 * std::hypot(sample.sigma, height_sigma_)) {
@@ -233,7 +242,8 @@ void HeightFusion::slide() {
   if (static_cast<int>(corners_.size()) > settings_.max_corners) {
     for (auto it = corners_.begin(); it != corners_.end(); ++it)
       if (it->second.seen < nodes_.front().first) leaving.push_back(it);
-    std::sort(leaving.begin(), leaving.end(), [](const auto& a, const auto& b) { return a->second.seen < b->second.seen; });
+    std::sort(leaving.begin(), leaving.end(),
+              [](const auto& a, const auto& b) { return a->second.seen < b->second.seen; });
     leaving.resize(std::min(leaving.size(), corners_.size() - static_cast<size_t>(settings_.max_corners * 9 / 10)));
   }
   if (!leaving.empty()) {
@@ -282,7 +292,8 @@ void HeightFusion::normal_equations(const std::vector<Linear>& residuals, const 
     for (size_t i = 0; i < m; ++i) {
       const double ji = residual.coefficients[i] / residual.sigma;
       g[at[i]] += weight * ji * r;
-      for (size_t j = 0; j < m; ++j) terms.emplace_back(at[i], at[j], weight * ji * residual.coefficients[j] / residual.sigma);
+      for (size_t j = 0; j < m; ++j)
+        terms.emplace_back(at[i], at[j], weight * ji * residual.coefficients[j] / residual.sigma);
     }
   }
   const long k = static_cast<long>(prior_.states.size());
@@ -310,7 +321,8 @@ void HeightFusion::marginalise(const std::vector<long>& dropped) {
   const std::set<long> gone(dropped.begin(), dropped.end());
   std::vector<Linear> touching, kept;
   for (auto& residual : residuals_) {
-    const bool touches = std::any_of(residual.states.begin(), residual.states.end(), [&](long s) { return gone.count(s); });
+    const bool touches =
+        std::any_of(residual.states.begin(), residual.states.end(), [&](long s) { return gone.count(s); });
     (touches ? touching : kept).push_back(std::move(residual));
   }
   std::vector<long> order(dropped);  // dropped first, then the boundary

@@ -8,8 +8,8 @@ double height_change(double dx, double dy, const Eigen::Quaterniond& attitude_be
                      const Eigen::Quaterniond& attitude_after, const Eigen::Isometry3d& laser_in_body) {
   const Eigen::Vector3d laser_moved = attitude_before * (laser_in_body.linear() * Eigen::Vector3d(dx, dy, 0));
   // The laser sits off the body's centre: turning moves it without moving the body.
-  const Eigen::Vector3d lever_turned = (attitude_after * laser_in_body.translation()) -
-                                       (attitude_before * laser_in_body.translation());
+  const Eigen::Vector3d lever_turned =
+      (attitude_after * laser_in_body.translation()) - (attitude_before * laser_in_body.translation());
   return (laser_moved - lever_turned).z();
 }
 

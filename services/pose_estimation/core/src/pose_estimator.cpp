@@ -14,13 +14,14 @@ PoseEstimatorSettings pose_estimator_settings_from_config(const Config& section)
   constexpr double kDegree = M_PI / 180;
   PoseEstimatorSettings s;
   const auto origin = section.numbers("origin", 3);
-  if (std::abs(origin[0]) > 90 || std::abs(origin[1]) > 180) section.fail("origin", "must be latitude, longitude in degrees");
+  if (std::abs(origin[0]) > 90 || std::abs(origin[1]) > 180)
+    section.fail("origin", "must be latitude, longitude in degrees");
   s.origin = {origin[0], origin[1], origin[2]};
   const Config mount = section.section("laser_mount");
   const auto xyz = mount.has("xyz") ? mount.numbers("xyz", 3) : std::vector<double>{0, 0, -0.1};
   const auto rpy = mount.has("rpy") ? mount.numbers("rpy", 3) : std::vector<double>{0, 90, 0};
-  s.laser_in_body = transforms::from_xyz_rpy({xyz[0], xyz[1], xyz[2]},
-                                             Eigen::Vector3d(rpy[0], rpy[1], rpy[2]) * kDegree);
+  s.laser_in_body =
+      transforms::from_xyz_rpy({xyz[0], xyz[1], xyz[2]}, Eigen::Vector3d(rpy[0], rpy[1], rpy[2]) * kDegree);
   s.max_wait = section.number("max_wait", s.max_wait, 0.0, 10.0);
   s.ground_clearance = section.section("ground").flag("enabled", s.ground_clearance);
   s.gps_altitude = section.section("gps").flag("altitude", s.gps_altitude);
@@ -57,7 +58,8 @@ struct PoseEstimator::Local {
 
 PoseEstimator::PoseEstimator(PoseEstimatorSettings settings)
     : settings_(std::move(settings)),
-      local_(new Local{GeographicLib::LocalCartesian(settings_.origin.x(), settings_.origin.y(), settings_.origin.z())}),
+      local_(
+          new Local{GeographicLib::LocalCartesian(settings_.origin.x(), settings_.origin.y(), settings_.origin.z())}),
       fusion_(settings_.fusion) {}
 
 PoseEstimator::~PoseEstimator() = default;
@@ -69,8 +71,8 @@ void PoseEstimator::add_imu(double stamp, const Eigen::Quaterniond& orientation)
   newest_input_ = std::max(newest_input_, stamp);
 }
 
-void PoseEstimator::add_fix(double stamp, double latitude, double longitude, double altitude,
-                            double horizontal_sigma, double vertical_sigma) {
+void PoseEstimator::add_fix(double stamp, double latitude, double longitude, double altitude, double horizontal_sigma,
+                            double vertical_sigma) {
   Eigen::Isometry3d position = Eigen::Isometry3d::Identity();
   position.translation() = map_position(latitude, longitude, altitude);
   positions_.add(stamp, position);
@@ -102,8 +104,8 @@ void PoseEstimator::add_match(double stamp, std::optional<Eigen::Vector2d> incre
   newest_input_ = std::max(newest_input_, stamp);
 }
 
-void PoseEstimator::add_scan(double stamp, double angle_min, double angle_increment, double range_min,
-                             double range_max, const std::vector<float>& ranges) {
+void PoseEstimator::add_scan(double stamp, double angle_min, double angle_increment, double range_min, double range_max,
+                             const std::vector<float>& ranges) {
   if (!settings_.ground_clearance) return;
   if (previous_ && stamp <= previous_->first) return;  // its match is gone already
   std::vector<Eigen::Vector3d> points;

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <random>
 
-#include "scanbus/pose_estimation/height_fusion.hpp"
 #include "scanbus/atmosphere.hpp"
+#include "scanbus/pose_estimation/height_fusion.hpp"
 #include "scanbus/pose_estimation/laser_height.hpp"
 #include "scanbus/pose_estimation/pose_estimator.hpp"
 
@@ -57,7 +57,9 @@ double x_at(double t) {
   return phase < 24 ? 0.5 * phase : 0.5 * (48 - phase);
 }
 
-double ground_at(const FlightPlan& plan, double x) { return plan.slope * x + (plan.over_block && x >= 8.2 ? 1.0 : 0.0); }
+double ground_at(const FlightPlan& plan, double x) {
+  return plan.slope * x + (plan.over_block && x >= 8.2 ? 1.0 : 0.0);
+}
 
 Track fly(const FusionSettings& settings, const FlightPlan& plan = {}) {
   std::mt19937 random(plan.seed), gps_random(plan.seed + 1000);  // GPS or not, the same other noise
@@ -143,7 +145,7 @@ TEST(HeightFusion, ABarometerShiftThatPersistsIsBelievedAfterTheGateTime) {
     fusion.add_node(t, std::nullopt);
     if (k == 150) at_15s = fusion.height();
   }
-  EXPECT_NEAR(at_15s, 5.0, 0.05);  // within baro_gate_time: left out
+  EXPECT_NEAR(at_15s, 5.0, 0.05);          // within baro_gate_time: left out
   EXPECT_NEAR(fusion.height(), 8.0, 0.1);  // then believed
   // Without changes the height's own uncertainty grows while the barometer is left out, and
   // the gate widens with it: believed after 6 s here rather than baro_gate_time's 10.
@@ -247,7 +249,7 @@ TEST(HeightFusion, GroundSeenAgainHoldsTheHeightOverABlock) {
     std::printf("seed %u: barometer %.3f m, integrated %.3f m, fused %.3f m, worst %.3f m\n", seed, baro, integrated,
                 fused, worst);
     EXPECT_LT(fused, 0.5 * std::min(baro, integrated));
-    EXPECT_LT(worst, 0.35);  // a block's edge never carries the height off by its 1 m
+    EXPECT_LT(worst, 0.35);         // a block's edge never carries the height off by its 1 m
     EXPECT_EQ(track.rejected, 8u);  // the matcher's jumps at the 8 edges the flight crosses
   }
 }

@@ -13,9 +13,12 @@ namespace scanbus::recorder {
 
 std::string compression_name(Compression compression) {
   switch (compression) {
-    case Compression::Lz4: return "lz4";
-    case Compression::Zstd: return "zstd";
-    case Compression::None: break;
+    case Compression::Lz4:
+      return "lz4";
+    case Compression::Zstd:
+      return "zstd";
+    case Compression::None:
+      break;
   }
   return "";
 }
@@ -68,15 +71,14 @@ namespace {
 // straight to the size a (possibly corrupt) chunk claims, and never past that size.
 class GrowingOutput {
  public:
-  GrowingOutput(uint64_t limit, size_t compressed_size, const std::string& what)
-      : limit_(limit), what_(what) {
+  GrowingOutput(uint64_t limit, size_t compressed_size, const std::string& what) : limit_(limit), what_(what) {
     out_.resize(static_cast<size_t>(std::min<uint64_t>(limit, std::max<uint64_t>(1 << 20, 8ull * compressed_size))));
   }
   // Room after `written`, growing when full; throws when the data outgrows the limit.
   size_t room(size_t written) {
     if (written == out_.size()) {
-      if (out_.size() >= limit_) throw McapError(what_ + ": the data gives more than the " + std::to_string(limit_) +
-                                                 " bytes the chunk says");
+      if (out_.size() >= limit_)
+        throw McapError(what_ + ": the data gives more than the " + std::to_string(limit_) + " bytes the chunk says");
       out_.resize(static_cast<size_t>(std::min<uint64_t>(limit_, 2ull * out_.size())));
     }
     return out_.size() - written;

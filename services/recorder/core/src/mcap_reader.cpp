@@ -12,15 +12,15 @@ namespace format = mcap_format;
 
 namespace {
 
-constexpr uint64_t kRecordHeader = 1 + 8;            // opcode, length
+constexpr uint64_t kRecordHeader = 1 + 8;  // opcode, length
 constexpr uint64_t kFooterRecord = kRecordHeader + 20;
 
 // "chunk (0x06)": the record's name and opcode, for errors.
 std::string hex(uint8_t opcode) {
-  static const char* const names[] = {"",           "header",      "footer",          "schema",
-                                      "channel",    "message",     "chunk",           "message index",
-                                      "chunk index", "attachment", "attachment index", "statistics",
-                                      "metadata",   "metadata index", "summary offset", "data end"};
+  static const char* const names[] = {
+      "",         "header",         "footer",         "schema",     "channel",          "message",
+      "chunk",    "message index",  "chunk index",    "attachment", "attachment index", "statistics",
+      "metadata", "metadata index", "summary offset", "data end"};
   char text[40];
   std::snprintf(text, sizeof(text), "%s (0x%02x)", opcode > 0 && opcode < 16 ? names[opcode] : "unknown", opcode);
   return text;
@@ -68,9 +68,9 @@ McapChunkInfo parse_chunk_index(Cursor& in) {
   chunk.start_time = in.get<uint64_t>();
   chunk.end_time = in.get<uint64_t>();
   chunk.offset = in.get<uint64_t>();
-  in.get<uint64_t>();                 // chunk record length
-  in.get_span<uint32_t>();            // message index offsets
-  in.get<uint64_t>();                 // message index length
+  in.get<uint64_t>();       // chunk record length
+  in.get_span<uint32_t>();  // message index offsets
+  in.get<uint64_t>();       // message index length
   chunk.compression = in.get_string();
   chunk.compressed_size = in.get<uint64_t>();
   chunk.uncompressed_size = in.get<uint64_t>();
@@ -143,7 +143,8 @@ std::optional<McapSummary> McapReader::read_summary() {
       tail[0] != format::kFooter)
     return std::nullopt;  // cut short: no footer
   Cursor footer(tail.data() + 1, kFooterRecord - 1, footer_at + 1, path_ + ": footer");
-  if (footer.get<uint64_t>() != 20) throw McapError(path_ + ": footer at offset " + std::to_string(footer_at) + " has a wrong length");
+  if (footer.get<uint64_t>() != 20)
+    throw McapError(path_ + ": footer at offset " + std::to_string(footer_at) + " has a wrong length");
   const auto summary_start = footer.get<uint64_t>();
   footer.get<uint64_t>();  // summary offsets: the summary is read whole
   const auto summary_crc = footer.get<uint32_t>();
@@ -232,8 +233,8 @@ void McapReader::stream(const MessageHandler& on_message) {
 
 void McapReader::handle_record(uint8_t opcode, const uint8_t* content, size_t size, uint64_t offset,
                                const MessageHandler& on_message) {
-  Cursor in(content, size, offset + kRecordHeader, path_ + ": record " + hex(opcode) +
-                                                                           " at offset " + std::to_string(offset));
+  Cursor in(content, size, offset + kRecordHeader,
+            path_ + ": record " + hex(opcode) + " at offset " + std::to_string(offset));
   if (opcode == format::kSchema) {
     McapSchema schema = parse_schema(in);
     schemas_[schema.id] = std::move(schema);
@@ -266,8 +267,7 @@ void McapReader::handle_record(uint8_t opcode, const uint8_t* content, size_t si
   // skipped, as the spec asks of readers.
 }
 
-void McapReader::handle_chunk(const uint8_t* content, size_t size, uint64_t offset,
-                              const MessageHandler& on_message) {
+void McapReader::handle_chunk(const uint8_t* content, size_t size, uint64_t offset, const MessageHandler& on_message) {
   const std::string what = path_ + ": chunk at offset " + std::to_string(offset);
   Cursor in(content, size, offset + kRecordHeader, what);
   in.get<uint64_t>();  // message start time
@@ -286,7 +286,8 @@ void McapReader::handle_chunk(const uint8_t* content, size_t size, uint64_t offs
     const auto opcode = inner.get<uint8_t>();
     Cursor record = inner.get_span<uint64_t>();
     if (opcode != format::kSchema && opcode != format::kChannel && opcode != format::kMessage)
-      throw McapError(what + " holds a " + hex(opcode) + " record (only schemas, channels and messages belong in chunks)");
+      throw McapError(what + " holds a " + hex(opcode) +
+                      " record (only schemas, channels and messages belong in chunks)");
     handle_record(opcode, record.here(), record.left(), offset, on_message);
   }
 }

@@ -38,8 +38,7 @@ Bytes channel_record(const McapChannel& channel) {
 
 }  // namespace
 
-McapWriter::McapWriter(const std::string& path, McapWriterOptions options)
-    : path_(path), options_(std::move(options)) {
+McapWriter::McapWriter(const std::string& path, McapWriterOptions options) : path_(path), options_(std::move(options)) {
   file_ = std::fopen(path.c_str(), "wb");
   if (!file_) throw McapError(path + ": cannot create (" + std::strerror(errno) + ")");
   Bytes start(std::begin(format::kMagic), std::end(format::kMagic));
@@ -145,8 +144,8 @@ void McapWriter::write_chunk() {
   Bytes record;
   put_record(record, format::kChunk, chunk);
 
-  ChunkIndex index{chunk_start_time_, chunk_end_time_, offset_, record.size(), {}, 0, compressed.size(),
-                   chunk_records_.size()};
+  ChunkIndex index{chunk_start_time_, chunk_end_time_,      offset_, record.size(), {}, 0,
+                   compressed.size(), chunk_records_.size()};
   for (const auto& [channel_id, entries] : chunk_message_index_) {
     Bytes content;
     put<uint16_t>(content, channel_id);

@@ -13,10 +13,10 @@ namespace {
 
 const std::map<std::string, std::string>& primitive_types() {
   static const std::map<std::string, std::string> types = {
-      {"boolean", "bool"},    {"octet", "byte"},      {"char", "char"},       {"float", "float32"},
-      {"double", "float64"},  {"int8", "int8"},       {"uint8", "uint8"},     {"int16", "int16"},
-      {"uint16", "uint16"},   {"int32", "int32"},     {"uint32", "uint32"},   {"int64", "int64"},
-      {"uint64", "uint64"},   {"short", "int16"},     {"long", "int32"},      {"string", "string"}};
+      {"boolean", "bool"},   {"octet", "byte"},  {"char", "char"},     {"float", "float32"},
+      {"double", "float64"}, {"int8", "int8"},   {"uint8", "uint8"},   {"int16", "int16"},
+      {"uint16", "uint16"},  {"int32", "int32"}, {"uint32", "uint32"}, {"int64", "int64"},
+      {"uint64", "uint64"},  {"short", "int16"}, {"long", "int32"},    {"string", "string"}};
   return types;
 }
 

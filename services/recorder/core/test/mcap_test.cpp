@@ -24,8 +24,11 @@ std::vector<Sample> samples(size_t count, size_t largest) {
   std::mt19937 random(7);
   std::vector<Sample> out;
   for (size_t i = 0; i < count; ++i) {
-    Sample sample{static_cast<uint16_t>(1 + i % 2), static_cast<uint32_t>(i), 1'000'000'000ull + i * 1000,
-                  1'000'000'000ull + i * 1000 - 7, {}};
+    Sample sample{static_cast<uint16_t>(1 + i % 2),
+                  static_cast<uint32_t>(i),
+                  1'000'000'000ull + i * 1000,
+                  1'000'000'000ull + i * 1000 - 7,
+                  {}};
     sample.data.resize(random() % largest);
     for (auto& byte : sample.data) byte = static_cast<uint8_t>(random() % 16);  // compressible
     out.push_back(std::move(sample));
@@ -45,7 +48,8 @@ void write_file(const fs::path& path, const std::vector<Sample>& all, McapWriter
   writer.add_channel(schema, "/one", "cdr", {{"offered_qos_profiles", ""}});
   writer.add_channel(schema, "/two", "cdr", {});
   writer.add_metadata("flight", {{"scenario", "4"}, {"origin", "52.5 13.4 34"}});
-  for (const auto& s : all) writer.write(s.channel, s.sequence, s.log_time, s.publish_time, s.data.data(), s.data.size());
+  for (const auto& s : all)
+    writer.write(s.channel, s.sequence, s.log_time, s.publish_time, s.data.data(), s.data.size());
   if (close) {
     writer.close();
   } else {
@@ -242,7 +246,8 @@ TEST_P(McapCorruption, EveryFlippedByteIsReadOrNamed) {
   for (size_t at = 0; at < bytes.size(); ++at) {
     auto copy = bytes;
     copy[at] = static_cast<char>(~copy[at]);
-    std::ofstream(flipped, std::ios::binary | std::ios::trunc).write(copy.data(), static_cast<std::streamsize>(copy.size()));
+    std::ofstream(flipped, std::ios::binary | std::ios::trunc)
+        .write(copy.data(), static_cast<std::streamsize>(copy.size()));
     try {
       McapReader reader(flipped.string());
       reader.read_summary();
@@ -313,7 +318,8 @@ namespace scanbus::recorder {
 TEST(Mcap, AChunkOverTheMemoryBudgetIsRefusedNamingItsSize) {
   const auto path = temporary("budget.mcap");
   std::vector<Sample> zeros;
-  for (uint32_t i = 0; i < 4; ++i) zeros.push_back({1, i, 1'000'000'000ull + i, 1'000'000'000ull + i, std::vector<uint8_t>(256 << 10)});
+  for (uint32_t i = 0; i < 4; ++i)
+    zeros.push_back({1, i, 1'000'000'000ull + i, 1'000'000'000ull + i, std::vector<uint8_t>(256 << 10)});
   write_file(path, zeros, {Compression::Zstd, 4 << 20});
   const auto chunks = McapReader(path.string()).read_summary()->chunks;
   ASSERT_EQ(chunks.size(), 1u);
@@ -323,9 +329,10 @@ TEST(Mcap, AChunkOverTheMemoryBudgetIsRefusedNamingItsSize) {
     FAIL() << "a 1 MiB chunk read with a 512 KiB budget";
   } catch (const McapError& error) {
     const std::string what = error.what();
-    EXPECT_NE(what.find("chunk at offset " + std::to_string(chunks[0].offset) + " uncompressed takes " +
-                        std::to_string(chunks[0].uncompressed_size) + " bytes, more than the reader's budget of 524288"),
-              std::string::npos)
+    EXPECT_NE(
+        what.find("chunk at offset " + std::to_string(chunks[0].offset) + " uncompressed takes " +
+                  std::to_string(chunks[0].uncompressed_size) + " bytes, more than the reader's budget of 524288"),
+        std::string::npos)
         << what;
   }
   size_t messages = 0;
@@ -349,7 +356,8 @@ TEST(Mcap, AChunkClaimingGigabytesIsRefusedByTheDefaultBudget) {
     read_all(path, false);
     FAIL() << "a chunk claiming 16 GiB was read";
   } catch (const McapError& error) {
-    EXPECT_NE(std::string(error.what()).find("uncompressed takes 17179869184 bytes, more than the reader's budget of 1073741824"),
+    EXPECT_NE(std::string(error.what())
+                  .find("uncompressed takes 17179869184 bytes, more than the reader's budget of 1073741824"),
               std::string::npos)
         << error.what();
   }

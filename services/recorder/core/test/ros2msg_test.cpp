@@ -38,8 +38,7 @@ TEST(Ros2Msg, ConstantsFixedArraysAndNestedSequences) {
   EXPECT_NE(catalogue.definition("scanbus/msg/Wall").find("float64[4] plane\n"), std::string::npos);
   const std::string schema = catalogue.schema("scanbus/msg/RoomMeasurement");
   EXPECT_NE(schema.find("MSG: scanbus/Wall\n"), std::string::npos);
-  EXPECT_EQ(schema.find("MSG: std_msgs/Header\n"), schema.rfind("MSG: std_msgs/Header\n"))
-      << "each dependency once";
+  EXPECT_EQ(schema.find("MSG: std_msgs/Header\n"), schema.rfind("MSG: std_msgs/Header\n")) << "each dependency once";
 }
 
 TEST(Ros2Msg, EveryCatalogueTopicHasASchema) {

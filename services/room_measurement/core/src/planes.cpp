@@ -18,7 +18,8 @@ namespace {
 pcl::PointCloud<pcl::PointXYZ>::Ptr to_pcl(const std::vector<Eigen::Vector3f>& points, const Eigen::Vector3f& shift) {
   auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
   cloud->reserve(points.size());
-  for (const auto& point : points) cloud->push_back(pcl::PointXYZ(point.x() - shift.x(), point.y() - shift.y(), point.z() - shift.z()));
+  for (const auto& point : points)
+    cloud->push_back(pcl::PointXYZ(point.x() - shift.x(), point.y() - shift.y(), point.z() - shift.z()));
   return cloud;
 }
 
@@ -64,7 +65,7 @@ std::vector<Plane> extract_planes(const std::vector<Eigen::Vector3f>& points, bo
   segmentation.setOptimizeCoefficients(true);
   segmentation.setModelType(vertical ? pcl::SACMODEL_PARALLEL_PLANE : pcl::SACMODEL_PERPENDICULAR_PLANE);
   segmentation.setMethodType(pcl::SAC_RANSAC);
-  segmentation.setAxis(Eigen::Vector3f::UnitZ());  // must be a unit vector
+  segmentation.setAxis(Eigen::Vector3f::UnitZ());                   // must be a unit vector
   segmentation.setEpsAngle(settings.eps_angle_deg * M_PI / 180.0);  // 0 would disable the constraint
   segmentation.setDistanceThreshold(settings.distance);
   segmentation.setMaxIterations(settings.iterations);

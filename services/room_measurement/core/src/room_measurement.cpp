@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 
 namespace scanbus::room_measurement {
 
@@ -20,8 +20,10 @@ void measure_lengths(std::vector<MeasuredWall>& walls) {
     const WallLine& wall = walls[i].line;
     const WallLine& after = walls[(i + 1) % count].line;
     auto length = [&](double d_before, double d_wall, double d_after) {
-      const Eigen::Vector2d start = intersect_lines(before.normal, before.offset + d_before, wall.normal, wall.offset + d_wall);
-      const Eigen::Vector2d end = intersect_lines(wall.normal, wall.offset + d_wall, after.normal, after.offset + d_after);
+      const Eigen::Vector2d start =
+          intersect_lines(before.normal, before.offset + d_before, wall.normal, wall.offset + d_wall);
+      const Eigen::Vector2d end =
+          intersect_lines(wall.normal, wall.offset + d_wall, after.normal, after.offset + d_after);
       return (end - start).norm();
     };
     walls[i].length = length(0, 0, 0);
@@ -36,8 +38,8 @@ void measure_lengths(std::vector<MeasuredWall>& walls) {
 // the neighbouring wall's points come near) and between `z_low` and `z_high`, lying within
 // `band` of the line. Chosen by where the ray meets the line, not by the point: range noise
 // moves a point along its ray, and a cut on the noisy position keeps more short ranges there.
-std::vector<Eigen::Vector3f> points_on_wall(const WallLine& wall, const std::vector<Eigen::Vector3f>& points, double band,
-                                            double z_low = -1e9, double z_high = 1e9) {
+std::vector<Eigen::Vector3f> points_on_wall(const WallLine& wall, const std::vector<Eigen::Vector3f>& points,
+                                            double band, double z_low = -1e9, double z_high = 1e9) {
   std::vector<Eigen::Vector3f> near;
   for (const auto& p : points) {
     const Eigen::Vector2d xy = p.head<2>().cast<double>();
@@ -88,7 +90,8 @@ struct Horizontals {
   std::vector<Eigen::Vector2f> floor, ceiling;  // the planes' inliers, x-y
 };
 
-Horizontals find_floor_and_ceiling(const std::vector<Eigen::Vector3f>& points, const RoomSettings& settings, RoomResult& result) {
+Horizontals find_floor_and_ceiling(const std::vector<Eigen::Vector3f>& points, const RoomSettings& settings,
+                                   RoomResult& result) {
   Horizontals found;
   std::vector<float> heights;
   const size_t stride = std::max<size_t>(1, points.size() / settings.max_horizontal_samples);
@@ -117,7 +120,8 @@ Horizontals find_floor_and_ceiling(const std::vector<Eigen::Vector3f>& points, c
 }
 
 // Share of points at least `margin` inside the room's outline.
-double share_inside(const std::vector<Eigen::Vector2f>& points, const std::vector<Eigen::Vector2d>& corners, double margin) {
+double share_inside(const std::vector<Eigen::Vector2f>& points, const std::vector<Eigen::Vector2d>& corners,
+                    double margin) {
   if (points.empty()) return 0;
   size_t inside = 0;
   for (const auto& p : points) {
@@ -126,7 +130,8 @@ double share_inside(const std::vector<Eigen::Vector2f>& points, const std::vecto
     double nearest = 1e9;
     for (size_t i = 0, j = corners.size() - 1; i < corners.size(); j = i++) {
       const Eigen::Vector2d &a = corners[i], &b = corners[j];
-      if ((a.y() > q.y()) != (b.y() > q.y()) && q.x() < (b.x() - a.x()) * (q.y() - a.y()) / (b.y() - a.y()) + a.x()) in = !in;
+      if ((a.y() > q.y()) != (b.y() > q.y()) && q.x() < (b.x() - a.x()) * (q.y() - a.y()) / (b.y() - a.y()) + a.x())
+        in = !in;
       const double s = std::clamp((q - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
       nearest = std::min(nearest, (q - (a + s * (b - a))).norm());
     }
@@ -149,7 +154,8 @@ void drop_unchecked_heights(RoomResult& result) {
 void check_floor_and_ceiling(const Horizontals& found, RoomResult& result) {
   constexpr double kInside = 0.15, kMinShare = 0.3, kPast = 0.1;  // m, share, m
   double wall_low = 1e9, wall_high = -1e9;
-  for (const auto& wall : result.walls) wall_low = std::min(wall_low, wall.line.z_low), wall_high = std::max(wall_high, wall.line.z_high);
+  for (const auto& wall : result.walls)
+    wall_low = std::min(wall_low, wall.line.z_low), wall_high = std::max(wall_high, wall.line.z_high);
   auto check = [&](std::optional<double>& z, const std::vector<Eigen::Vector2f>& xy, bool floor) {
     const char* name = floor ? "floor" : "ceiling";
     if (!z) {
@@ -157,8 +163,8 @@ void check_floor_and_ceiling(const Horizontals& found, RoomResult& result) {
       return;
     }
     if (share_inside(xy, result.corners, kInside) < kMinShare) {
-      result.height_note = std::string(name) + " not in view: its plane is the walls' " + (floor ? "lowest" : "highest") +
-                           " points, not a surface seen inside the room";
+      result.height_note = std::string(name) + " not in view: its plane is the walls' " +
+                           (floor ? "lowest" : "highest") + " points, not a surface seen inside the room";
       z.reset();
     } else if (floor ? wall_low < *z - kPast : wall_high > *z + kPast) {
       result.height_note = std::string(name) + " not in view: walls reach " + (floor ? "below" : "above") +
@@ -190,8 +196,8 @@ ViewLimits view_limits(const std::vector<Eigen::Vector3f>& points, const RoomRes
 }
 
 // Each wall's profile along its line and how much of it the scanner sees over, from every valid point.
-void describe_walls(std::vector<WallLine>& walls, const RoomSettings& settings, const std::vector<Eigen::Vector3f>& valid,
-                    const ViewLimits& view) {
+void describe_walls(std::vector<WallLine>& walls, const RoomSettings& settings,
+                    const std::vector<Eigen::Vector3f>& valid, const ViewLimits& view) {
   const PolygonSettings& p = settings.polygon;
   for (auto& wall : walls) {
     wall.profile = wall_profile(wall, valid, settings.ransac.distance, settings.opening_beyond, 0.5);
@@ -244,7 +250,8 @@ std::vector<Eigen::Vector3f> in_sector(const std::vector<Eigen::Vector3f>& point
 bool faces_scanner(const WallLine& wall) {
   constexpr double kGrazing = 10 * M_PI / 180;
   std::vector<double> sines;
-  for (const auto& p : wall.inliers) sines.push_back(wall.offset / std::max(1e-6, static_cast<double>(p.head<2>().norm())));
+  for (const auto& p : wall.inliers)
+    sines.push_back(wall.offset / std::max(1e-6, static_cast<double>(p.head<2>().norm())));
   std::nth_element(sines.begin(), sines.begin() + static_cast<long>(sines.size() / 2), sines.end());
   return !sines.empty() && sines[sines.size() / 2] >= std::sin(kGrazing);
 }
@@ -288,8 +295,10 @@ void place_hidden_walls(const std::vector<Eigen::Vector3f>& points, const RoomSe
     std::vector<Eigen::Vector3f> body;
     for (const auto& p : points)
       if (p.z() > low && p.z() < nearer.z_high - 0.2) body.push_back(p);
-    const Eigen::Vector2d placed = intersect_lines(nearer.normal, nearer.offset, result.walls[i].line.normal, result.walls[i].line.offset);
-    const WallEnd end = wall_end(nearer, nearer.direction().dot(placed), before_nearer, body, 2 * settings.ransac.distance, kMaxGap);
+    const Eigen::Vector2d placed =
+        intersect_lines(nearer.normal, nearer.offset, result.walls[i].line.normal, result.walls[i].line.offset);
+    const WallEnd end =
+        wall_end(nearer, nearer.direction().dot(placed), before_nearer, body, 2 * settings.ransac.distance, kMaxGap);
     const Eigen::Vector2d corner = nearer.offset * nearer.normal + end.along * nearer.direction();
     const double footprint = corner.norm() * settings.beam_divergence / 2;
     WallLine hidden = infer_hidden_wall(before, after, end.along);
@@ -310,7 +319,8 @@ bool refuse_recess(double recess_depth, RoomResult& result) {
       std::snprintf(what, sizeof what, "wall %zu has a recess %.2f m wide and %.2f m deep at %.2f m along it", i + 1,
                     opening.width, opening.depth, opening.start);
       result.status = RoomStatus::WallsDoNotClose;
-      result.message = std::string(what) + " (an alcove or a bay whose sides are not found as walls): the outline would cut it off";
+      result.message =
+          std::string(what) + " (an alcove or a bay whose sides are not found as walls): the outline would cut it off";
       result.walls.clear();
       result.corners.clear();
       result.corner_inferred.clear();
@@ -418,15 +428,18 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
   check_floor_and_ceiling(horizontals, result);
   for (size_t i = 0; i < count; ++i)
     if (!result.walls[i].inferred())  // a wall turned away from the scanner: nothing is seen through it
-      result.walls[i].openings = find_openings(result.walls[i].line, result.corners[i], result.corners[(i + 1) % count], valid,
-                                             settings.ransac.distance, settings.opening_beyond, settings.opening_min_width);
+      result.walls[i].openings =
+          find_openings(result.walls[i].line, result.corners[i], result.corners[(i + 1) % count], valid,
+                        settings.ransac.distance, settings.opening_beyond, settings.opening_min_width);
   if (refuse_recess(settings.recess_depth, result)) return result;
   for (const auto& wall : result.walls) result.perimeter += wall.length;
   error_histogram(valid, result);
-  const auto hidden = std::count_if(result.walls.begin(), result.walls.end(), [](const auto& w) { return w.inferred(); });
+  const auto hidden =
+      std::count_if(result.walls.begin(), result.walls.end(), [](const auto& w) { return w.inferred(); });
   result.message = std::to_string(result.walls.size()) + " walls";
   if (hidden > 0)
-    result.message += ", " + std::to_string(hidden) + " of them not seen but inferred (perpendicular between the parallel walls they join)";
+    result.message += ", " + std::to_string(hidden) +
+                      " of them not seen but inferred (perpendicular between the parallel walls they join)";
   if (result.voxel_overflow) result.message += "; VoxelGrid skipped: the cloud spans too far for 32-bit voxel indices";
   return result;
 }
@@ -435,11 +448,16 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
 
 const char* status_name(RoomStatus status) {
   switch (status) {
-    case RoomStatus::Ok: return "ok";
-    case RoomStatus::TooFewPoints: return "too_few_points";
-    case RoomStatus::TooFewWalls: return "too_few_walls";
-    case RoomStatus::WallsDoNotClose: return "walls_do_not_close";
-    case RoomStatus::InputError: return "input_error";
+    case RoomStatus::Ok:
+      return "ok";
+    case RoomStatus::TooFewPoints:
+      return "too_few_points";
+    case RoomStatus::TooFewWalls:
+      return "too_few_walls";
+    case RoomStatus::WallsDoNotClose:
+      return "walls_do_not_close";
+    case RoomStatus::InputError:
+      return "input_error";
   }
   return "unknown";
 }
@@ -491,7 +509,8 @@ RoomSettings room_settings_from_config(const Config& section) {
   s.adjustment.pitch_bin_deg = adjustment.number("pitch_bin", s.adjustment.pitch_bin_deg, 0.01, 90);
   s.adjustment.range_bias_prior = adjustment.number("range_bias_prior", s.adjustment.range_bias_prior, 1e-4, 10);
   s.adjustment.lever_arm_prior = adjustment.number("lever_arm_prior", s.adjustment.lever_arm_prior, 1e-4, 10);
-  s.adjustment.pitch_error_prior_deg = adjustment.number("pitch_error_prior", s.adjustment.pitch_error_prior_deg, 1e-3, 45);
+  s.adjustment.pitch_error_prior_deg =
+      adjustment.number("pitch_error_prior", s.adjustment.pitch_error_prior_deg, 1e-3, 45);
   s.adjustment.band = adjustment.number("band", s.adjustment.band, 0.001, 1);
   s.adjustment.yaw_error_prior_deg = adjustment.number("yaw_error_prior", s.adjustment.yaw_error_prior_deg, 1e-3, 45);
 

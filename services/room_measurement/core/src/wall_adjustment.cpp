@@ -60,7 +60,8 @@ void for_each_row(const std::vector<WallLine>& walls, double pitch_bin_deg, Use 
       // o - t (along . p) - b facing sin + L facing cos - e range facing cos
       //   - (s sin + c cos) (n . p across) = n . p.
       const double across = n.dot(Eigen::Vector2d(-on_line.y(), on_line.x()));  // per radian of yaw
-      use(Row{k, bin,
+      use(Row{k,
+              bin,
               {1.0, -along.dot(on_line.head<2>()), -facing * sin_pitch, facing * cos_pitch,
                -on_line.norm() * facing * cos_pitch, -across * heading.y(), -across * heading.x()},
               n.dot(p.head<2>())});
@@ -89,8 +90,8 @@ void add_row(const Row& row, size_t walls, Block& block) {
 struct System {
   std::vector<Block> blocks;       // per pitch bin
   std::vector<Block> wall_shares;  // per wall (the jackknife leaves one out)
-  Eigen::VectorXd prior;       // g: diagonal prior weights
-  Eigen::VectorXd prior_mean;  // g: what they pull towards (an inferred wall's line; zero otherwise)
+  Eigen::VectorXd prior;           // g: diagonal prior weights
+  Eigen::VectorXd prior_mean;      // g: what they pull towards (an inferred wall's line; zero otherwise)
 };
 
 System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings& settings, double variance) {
@@ -116,7 +117,8 @@ System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings
     return system;
   }
   const auto sigmas = device_sigmas(settings);
-  for (size_t term = 0; term < kDeviceTerms; ++term) system.prior[2 * count + term] = variance / (sigmas[term] * sigmas[term]);
+  for (size_t term = 0; term < kDeviceTerms; ++term)
+    system.prior[2 * count + term] = variance / (sigmas[term] * sigmas[term]);
   return system;
 }
 
@@ -132,8 +134,10 @@ Block all_of(const System& system) {
 Eigen::VectorXd held_at(const System& system, size_t term, double value) {
   const auto g = system.prior.size();
   const Eigen::MatrixXd normal = all_of(system).normal;
-  const Eigen::Index walls = g - static_cast<Eigen::Index>(kDeviceTerms), index = walls + static_cast<Eigen::Index>(term);
-  const Eigen::VectorXd shift = normal.topLeftCorner(walls, walls).ldlt().solve(-normal.block(0, index, walls, 1) * value);
+  const Eigen::Index walls = g - static_cast<Eigen::Index>(kDeviceTerms),
+                     index = walls + static_cast<Eigen::Index>(term);
+  const Eigen::VectorXd shift =
+      normal.topLeftCorner(walls, walls).ldlt().solve(-normal.block(0, index, walls, 1) * value);
   Eigen::VectorXd x = Eigen::VectorXd::Zero(g);
   x.head(walls) = shift;
   return x;
@@ -260,7 +264,8 @@ Spread prior_spread(const System& system, const std::vector<WallLine>& walls, co
     spread.area += std::pow(shifted.area - best.area, 2);
   };
   const auto sigmas = device_sigmas(settings);
-  for (size_t term = 0; term < kDeviceTerms && !settings.estimate_device; ++term) add(x + held_at(system, term, sigmas[term]));
+  for (size_t term = 0; term < kDeviceTerms && !settings.estimate_device; ++term)
+    add(x + held_at(system, term, sigmas[term]));
   for (size_t k = 0; k < count; ++k) {
     if (!walls[k].inferred) continue;
     Eigen::VectorXd shifted_x = x;

@@ -69,7 +69,8 @@ struct SeenWall {
   double first, last;  // rad, counter-clockwise; first may be negative where the run wraps
 };
 
-bool segments_cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c, const Eigen::Vector2d& d) {
+bool segments_cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
+                    const Eigen::Vector2d& d) {
   const double d1 = cross(b - a, c - a), d2 = cross(b - a, d - a), d3 = cross(d - c, a - c), d4 = cross(d - c, b - c);
   return ((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0));
 }
@@ -81,7 +82,8 @@ bool segments_cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Ei
 // Whether a wall has points just below `top` within `reach` of an along-position (furniture
 // has none) and is not seen over (furniture under the ceiling).
 bool stands_to_top(const WallLine& wall, double along, double reach, double top, const PolygonSettings& settings) {
-  return wall.seen_over <= settings.max_seen_over && wall.profile.has_points(along, reach, top - settings.top_band, top);
+  return wall.seen_over <= settings.max_seen_over &&
+         wall.profile.has_points(along, reach, top - settings.top_band, top);
 }
 
 // Whether it does so anywhere along it.
@@ -109,8 +111,10 @@ void drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, 
       // may be the room going on (an L's or T's arm whose sides are not seen): not decided here.
       // The runs end support_reach inside the gap's edges.
       const size_t after = (i + 2) % order.size();
-      const double gap = std::abs(along_at(a, order[after].first) - along_at(a, order[i].last)) + 2 * settings.support_reach;
-      if (order.size() >= 4 && order[i].wall == order[after].wall && b.offset > a.offset && gap <= settings.max_door_width) {
+      const double gap =
+          std::abs(along_at(a, order[after].first) - along_at(a, order[i].last)) + 2 * settings.support_reach;
+      if (order.size() >= 4 && order[i].wall == order[after].wall && b.offset > a.offset &&
+          gap <= settings.max_door_width) {
         order.erase(order.begin() + static_cast<long>(next));
         changed = true;
         continue;
@@ -162,7 +166,8 @@ void insert_hidden_walls(std::vector<WallLine>& walls, const PolygonSettings& se
     const size_t next = (i + 1) % order.size();
     const WallLine& before = walls[order[i].wall];  // used only before walls grows below
     const WallLine& after = walls[order[next].wall];
-    if (before.inferred || after.inferred || !hides_a_wall(before, after, kParallel, settings.min_hidden_wall)) continue;
+    if (before.inferred || after.inferred || !hides_a_wall(before, after, kParallel, settings.min_hidden_wall))
+      continue;
     const bool before_nearer = before.offset < after.offset;
     const WallLine& nearer = before_nearer ? before : after;
     const WallLine& farther = before_nearer ? after : before;
@@ -172,7 +177,8 @@ void insert_hidden_walls(std::vector<WallLine>& walls, const PolygonSettings& se
     const double shadow = along_at(farther, nearer_angle), first_seen = along_at(farther, farther_angle);
     if (std::abs(first_seen - shadow) > kShadowTolerance) continue;
     WallLine hidden = infer_hidden_wall(before, after, end);
-    const double foot = farther.direction().dot(intersect_lines(farther.normal, farther.offset, hidden.normal, hidden.offset));
+    const double foot =
+        farther.direction().dot(intersect_lines(farther.normal, farther.offset, hidden.normal, hidden.offset));
     if (before_nearer ? foot > shadow + kEdge : foot < shadow - kEdge) continue;
     walls.push_back(std::move(hidden));
     order.insert(order.begin() + static_cast<long>(i) + 1, SeenWall{walls.size() - 1, nearer_angle, farther_angle});
@@ -203,11 +209,11 @@ WallLine infer_hidden_wall(const WallLine& before, const WallLine& after, double
   return hidden;
 }
 
-WallEnd wall_end(const WallLine& wall, double near, bool at_end, const std::vector<Eigen::Vector3f>& points, double band,
-                 double max_gap) {
-  constexpr size_t kLast = 10;        // gaps whose median tells how finely the end is sampled
-  constexpr double kBack = 0.3;    // m inside `near` the walk starts (not from the wall's middle: a
-                                   // door on the way would stop it, and one line may hold two walls)
+WallEnd wall_end(const WallLine& wall, double near, bool at_end, const std::vector<Eigen::Vector3f>& points,
+                 double band, double max_gap) {
+  constexpr size_t kLast = 10;   // gaps whose median tells how finely the end is sampled
+  constexpr double kBack = 0.3;  // m inside `near` the walk starts (not from the wall's middle: a
+                                 // door on the way would stop it, and one line may hold two walls)
   const double sign = at_end ? 1 : -1;
   const double start = near - sign * kBack;
   // Where each point's ray meets the line, not the point: range noise moves a point along its
@@ -286,7 +292,8 @@ std::vector<Eigen::Vector3f> long_runs(const WallLine& wall, double gap, double 
 }
 
 std::vector<WallLine> merge_collinear(std::vector<WallLine> walls, double angle, double same, double tail) {
-  std::sort(walls.begin(), walls.end(), [](const auto& a, const auto& b) { return a.inliers.size() > b.inliers.size(); });
+  std::sort(walls.begin(), walls.end(),
+            [](const auto& a, const auto& b) { return a.inliers.size() > b.inliers.size(); });
   for (size_t i = 0; i < walls.size(); ++i) {
     for (size_t j = i + 1; j < walls.size();) {
       const double gap = std::abs(walls[i].offset - walls[j].offset);
@@ -321,8 +328,8 @@ bool any_in(const WallProfile& profile, const std::vector<uint64_t>& grid, doubl
     wanted = (high - low == 63 ? ~0ULL : ((1ULL << (high - low + 1)) - 1)) << low;
   }
   const long first = std::max(0L, static_cast<long>(std::floor((along - reach - profile.origin) / profile.slot)));
-  const long last =
-      std::min(static_cast<long>(grid.size()) - 1, static_cast<long>(std::floor((along + reach - profile.origin) / profile.slot)));
+  const long last = std::min(static_cast<long>(grid.size()) - 1,
+                             static_cast<long>(std::floor((along + reach - profile.origin) / profile.slot)));
   for (long i = first; i <= last; ++i)
     if (grid[static_cast<size_t>(i)] & wanted) return true;
   return false;
@@ -390,7 +397,8 @@ double seen_over_share(const WallLine& wall, const std::vector<Eigen::Vector3f>&
   constexpr double kAboveFloor = 0.3;  // m: floor points lie on every line
   size_t seen = 0;
   for (size_t i = 0; i < over.size(); ++i)
-    seen += over[i] && wall.profile.has_points(first + (i + 0.5) * kSlot, kSlot / 2, wall.profile.base + kAboveFloor, z_from);
+    seen += over[i] &&
+            wall.profile.has_points(first + (i + 0.5) * kSlot, kSlot / 2, wall.profile.base + kAboveFloor, z_from);
   return static_cast<double>(seen) / static_cast<double>(over.size());
 }
 
@@ -405,7 +413,8 @@ struct Run {
 
 // The nearest enclosing wall in each direction, a quarter of a degree at a time, in runs. A
 // wall that does not reach the top of the view is furniture when a wall stands behind it.
-std::vector<Run> enclosing_runs(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings) {
+std::vector<Run> enclosing_runs(const std::vector<WallLine>& walls, const ViewLimits& view,
+                                const PolygonSettings& settings) {
   constexpr double kFloorBand = 0.15;  // m over the lowest point near a wall's line
   std::vector<int> seen(kSteps, -1);
   struct Hit {
@@ -422,7 +431,8 @@ std::vector<Run> enclosing_runs(const std::vector<WallLine>& walls, const ViewLi
       if (facing < 1e-6) continue;
       const double t = walls[w].offset / facing;
       const double along = walls[w].direction().dot(t * ray);
-      if (along < walls[w].start - settings.extent_tolerance || along > walls[w].end + settings.extent_tolerance) continue;
+      if (along < walls[w].start - settings.extent_tolerance || along > walls[w].end + settings.extent_tolerance)
+        continue;
       // Points at a wall's own heights: the floor and ceiling run on under an alcove or a
       // chimney breast's side, where no wall stands on the line.
       const double top = view.top_at(t) - settings.top_margin;
@@ -459,8 +469,8 @@ std::vector<Run> enclosing_runs(const std::vector<WallLine>& walls, const ViewLi
 
 }  // namespace
 
-std::vector<Sector> open_sectors(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
-                                 double min_width_deg) {
+std::vector<Sector> open_sectors(const std::vector<WallLine>& walls, const ViewLimits& view,
+                                 const PolygonSettings& settings, double min_width_deg) {
   const int min_steps = static_cast<int>(min_width_deg / 360.0 * kSteps);
   std::vector<Sector> sectors;
   for (const Run& run : enclosing_runs(walls, view, settings))
@@ -534,7 +544,8 @@ std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimi
     if (a_runs_past || runs_past(b, corner, -1)) {
       const size_t number_a = i == 0 ? count : i, number_b = i + 1;
       why = "wall " + std::to_string(a_runs_past ? number_a : number_b) + " runs on past its corner with wall " +
-            std::to_string(a_runs_past ? number_b : number_a) + ": a wall between them is not seen, the walls do not close a room";
+            std::to_string(a_runs_past ? number_b : number_a) +
+            ": a wall between them is not seen, the walls do not close a room";
       return std::nullopt;
     }
     polygon.corners.push_back(corner);
@@ -552,7 +563,8 @@ std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimi
 }
 
 std::vector<Opening> find_openings(const WallLine& wall, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
-                                   const std::vector<Eigen::Vector3f>& points, double band, double beyond, double min_width) {
+                                   const std::vector<Eigen::Vector3f>& points, double band, double beyond,
+                                   double min_width) {
   constexpr double kSlot = 0.05;  // m
   constexpr double kCell = 0.1;   // m of height: a door's header and a window's sill hold points on
   constexpr int kCells = 64;      // the line at other heights than what is seen through the gap
@@ -562,8 +574,8 @@ std::vector<Opening> find_openings(const WallLine& wall, const Eigen::Vector2d& 
   const auto slots = static_cast<size_t>(std::ceil(length / kSlot));
   const double base = wall.z_low - 0.5;
   std::vector<int> on(slots * kCells, 0), past(slots * kCells, 0);  // per slot and height cell
-  std::vector<std::vector<double>> depths(slots);  // past the line, at the wall's middle heights
-  std::vector<std::vector<double>> passing(slots);  // where returns pass the line
+  std::vector<std::vector<double>> depths(slots);                   // past the line, at the wall's middle heights
+  std::vector<std::vector<double>> passing(slots);                  // where returns pass the line
   const double middle_low = wall.z_low + 0.3, middle_high = wall.z_high - 0.3;
   for (const auto& p : points) {
     const Eigen::Vector2d xy = p.head<2>().cast<double>();
@@ -573,7 +585,8 @@ std::vector<Opening> find_openings(const WallLine& wall, const Eigen::Vector2d& 
     const double s = along.dot(crossing.head<2>() - a);
     if (!(s >= 0 && s < length)) continue;
     const auto slot = std::min(slots - 1, static_cast<size_t>(s / kSlot));
-    const size_t cell = slot * kCells + static_cast<size_t>(std::clamp((crossing.z() - base) / kCell, 0.0, kCells - 1.0));
+    const size_t cell =
+        slot * kCells + static_cast<size_t>(std::clamp((crossing.z() - base) / kCell, 0.0, kCells - 1.0));
     if (distance <= band) ++on[cell];
     if (distance <= beyond) continue;
     ++past[cell];

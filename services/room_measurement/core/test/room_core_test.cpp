@@ -45,10 +45,10 @@ std::vector<Eigen::Vector3f> box_room(float x0, float y0, float x1, float y1, st
 
 TEST(HistogramFilter, KeepsDenseTallBinsOnly) {
   std::vector<Eigen::Vector3f> points;
-  for (float z = -1.2f; z <= 1.3f; z += 0.05f) points.emplace_back(3.0f, 0.0f, z);  // a wall column: kept
-  for (float x = -3; x <= 3; x += 0.5f) points.emplace_back(x, 2.0f, -1.2f);       // floor: flat, dropped
+  for (float z = -1.2f; z <= 1.3f; z += 0.05f) points.emplace_back(3.0f, 0.0f, z);    // a wall column: kept
+  for (float x = -3; x <= 3; x += 0.5f) points.emplace_back(x, 2.0f, -1.2f);          // floor: flat, dropped
   for (float z = -0.25f; z <= 0.25f; z += 0.05f) points.emplace_back(0.1f, 0.0f, z);  // within 0.3 m: dropped
-  points.emplace_back(-3.0f, -3.0f, 1.0f);                                          // lone point: dropped
+  points.emplace_back(-3.0f, -3.0f, 1.0f);                                            // lone point: dropped
   const auto kept = histogram_filter(points, HistogramFilterSettings{});
   ASSERT_FALSE(kept.empty());
   for (const auto& p : kept) EXPECT_FLOAT_EQ(p.x(), 3.0f);
@@ -88,9 +88,10 @@ TEST(RoomMeasurement, TallCupboardInFrontOfAWallIsNotAWall) {
   std::mt19937 random(2);
   auto points = box_room(-2, -1.5f, 3, 2, random);
   std::vector<Eigen::Vector3f> behind;  // the wall at x = 3 is hidden below 0.9 m by the cupboard
-  points.erase(std::remove_if(points.begin(), points.end(), [](const auto& p) {
-                 return std::abs(p.x() - 3) < 0.05f && p.y() > -1.0f && p.y() < 1.0f && p.z() < 0.9f;
-               }),
+  points.erase(std::remove_if(points.begin(), points.end(),
+                              [](const auto& p) {
+                                return std::abs(p.x() - 3) < 0.05f && p.y() > -1.0f && p.y() < 1.0f && p.z() < 0.9f;
+                              }),
                points.end());
   add_wall(points, {2.4f, -1.0f}, {2.4f, 1.0f}, random, 0.01f, -1.2f, 0.9f);  // its front, 2.1 m tall
   const auto result = measure_room(points, RoomSettings{});
@@ -199,7 +200,8 @@ std::vector<Eigen::Vector3f> cast_scan(const Box& room, const std::vector<Box>& 
   std::vector<Eigen::Vector3f> points;
   for (float yaw = 0; yaw < 6.283f; yaw += 0.004f)
     for (float elevation = -0.9f; elevation < 0.9f; elevation += 0.02f) {
-      const Eigen::Vector3f ray(std::cos(yaw) * std::cos(elevation), std::sin(yaw) * std::cos(elevation), std::sin(elevation));
+      const Eigen::Vector3f ray(std::cos(yaw) * std::cos(elevation), std::sin(yaw) * std::cos(elevation),
+                                std::sin(elevation));
       float t = std::numeric_limits<float>::infinity();  // the room's inside: the nearest face ahead
       const float low[3] = {room.x0, room.y0, room.z0}, high[3] = {room.x1, room.y1, room.z1};
       for (int axis = 0; axis < 3; ++axis) {
@@ -249,16 +251,18 @@ TEST(RoomMeasurement, WhatIsSeenThroughADoorIsNoAlcove) {
   // see, as from inside a closet): the turn goes wall, corridor, wall. A wall seen through a
   // door-wide gap in a nearer one is outside: the same room, with the gap as its opening, and
   // no hidden wall inferred between the wall and the corridor.
-  points.erase(std::remove_if(points.begin(), points.end(),
-                              [](const auto& p) { return std::abs(p.y() - 2) < 0.05f && p.x() > 0.5f && p.x() < 1.3f; }),
-               points.end());
+  points.erase(
+      std::remove_if(points.begin(), points.end(),
+                     [](const auto& p) { return std::abs(p.y() - 2) < 0.05f && p.x() > 0.5f && p.x() < 1.3f; }),
+      points.end());
   const auto archway = measure_room(points, RoomSettings{});
   ASSERT_EQ(archway.status, RoomStatus::Ok) << archway.message;
   ASSERT_EQ(archway.walls.size(), 4u) << archway.message;
   for (const auto& wall : archway.walls) EXPECT_FALSE(wall.inferred());
   EXPECT_NEAR(archway.area, 17.5, 0.05);
   std::vector<Opening> archway_openings;
-  for (const auto& wall : archway.walls) archway_openings.insert(archway_openings.end(), wall.openings.begin(), wall.openings.end());
+  for (const auto& wall : archway.walls)
+    archway_openings.insert(archway_openings.end(), wall.openings.begin(), wall.openings.end());
   ASSERT_EQ(archway_openings.size(), 1u);
   EXPECT_NEAR(archway_openings[0].width, 0.8, 0.05);
 
@@ -336,10 +340,11 @@ TEST(SeenOver, AWardrobeUnderTheCeilingIsSeenOverAChimneyBreastIsNot) {
     std::vector<Eigen::Vector3f> points;
     for (float yaw = 0.5f; yaw < 2.64f; yaw += 0.006f)
       for (float elevation = -0.9f; elevation < 0.9f; elevation += 0.01f) {
-        const Eigen::Vector3f ray(std::cos(yaw) * std::cos(elevation), std::sin(yaw) * std::cos(elevation), std::sin(elevation));
-        float t = 3 / ray.y();                                            // the wall
-        if (ray.z() > 0) t = std::min(t, 1.3f / ray.z());                 // the ceiling
-        if (ray.z() < 0) t = std::min(t, -1.2f / ray.z());                // the floor
+        const Eigen::Vector3f ray(std::cos(yaw) * std::cos(elevation), std::sin(yaw) * std::cos(elevation),
+                                  std::sin(elevation));
+        float t = 3 / ray.y();                              // the wall
+        if (ray.z() > 0) t = std::min(t, 1.3f / ray.z());   // the ceiling
+        if (ray.z() < 0) t = std::min(t, -1.2f / ray.z());  // the floor
         const Eigen::Vector3f on_front = ray * (2.6f / ray.y());
         if (std::abs(on_front.x()) < 0.6f && on_front.z() < front_top) t = std::min(t, 2.6f / ray.y());
         points.push_back(ray * t);
@@ -357,7 +362,8 @@ TEST(SeenOver, AWardrobeUnderTheCeilingIsSeenOverAChimneyBreastIsNot) {
       if (std::abs(p.y() - 2.6f) < 0.02f && std::abs(p.x()) < 0.6f) on_front.push_back(p);
     WallLine front = fit_wall(on_front);
     front.profile = wall_profile(front, points, 0.05, 0.2, 0.5);
-    const double share = seen_over_share(front, points, 0.1, 0.2, view.top_at(front.offset) - polygon.top_margin - polygon.top_band);
+    const double share =
+        seen_over_share(front, points, 0.1, 0.2, view.top_at(front.offset) - polygon.top_margin - polygon.top_band);
     if (front_top < 1.3f) {
       EXPECT_GT(share, 0.9) << "a wardrobe under the ceiling";
     } else {
@@ -433,7 +439,8 @@ TEST(RoomMeasurement, EmptyAndNonFiniteInput) {
   const auto result = measure_room(points, RoomSettings{});
   EXPECT_EQ(result.status, RoomStatus::Ok) << result.message;
   EXPECT_EQ(result.points_in - result.points_valid, 100u);
-  const auto only_nan = measure_room(std::vector<Eigen::Vector3f>(1000, Eigen::Vector3f(nan, nan, nan)), RoomSettings{});
+  const auto only_nan =
+      measure_room(std::vector<Eigen::Vector3f>(1000, Eigen::Vector3f(nan, nan, nan)), RoomSettings{});
   EXPECT_EQ(only_nan.status, RoomStatus::TooFewPoints);
 }
 
@@ -489,9 +496,10 @@ std::vector<WallLine> scanned_box_walls(double bias, double pitch_error, double 
       const double z = origin.z() + best * d.z();
       if (hit < 0 || z < floor || z > ceiling) continue;
       const double reported_pitch = pitch_deg * M_PI / 180;
-      const Eigen::Vector3d u(std::cos(reported_yaw) * std::sin(reported_pitch), std::sin(reported_yaw) * std::sin(reported_pitch),
-                              std::cos(reported_pitch));
-      const double range = std::round((best + bias + (noise > 0 ? jitter(random) : 0.0)) * 100) / (noise > 0 ? 100 : 1e9) ;
+      const Eigen::Vector3d u(std::cos(reported_yaw) * std::sin(reported_pitch),
+                              std::sin(reported_yaw) * std::sin(reported_pitch), std::cos(reported_pitch));
+      const double range =
+          std::round((best + bias + (noise > 0 ? jitter(random) : 0.0)) * 100) / (noise > 0 ? 100 : 1e9);
       walls[static_cast<size_t>(hit)].inliers.push_back(((noise > 0 ? range : best + bias) * u).cast<float>());
     }
   for (auto& wall : walls) wall = fit_wall(wall.inliers);
@@ -501,9 +509,9 @@ std::vector<WallLine> scanned_box_walls(double bias, double pitch_error, double 
 }  // namespace
 
 TEST(WallAdjustment, RecoversRangeBiasLeverArmAndPitchErrors) {
-  for (const auto& [bias, pitch_error, lever_arm] : {std::tuple{0.0, 0.0, 0.0}, std::tuple{0.01, 0.0, 0.0},
-                                                     std::tuple{0.0, 0.4, 0.0}, std::tuple{0.0, 0.0, 0.03},
-                                                     std::tuple{-0.01, -0.3, 0.02}}) {
+  for (const auto& [bias, pitch_error, lever_arm] :
+       {std::tuple{0.0, 0.0, 0.0}, std::tuple{0.01, 0.0, 0.0}, std::tuple{0.0, 0.4, 0.0}, std::tuple{0.0, 0.0, 0.03},
+        std::tuple{-0.01, -0.3, 0.02}}) {
     AdjustmentSettings settings;
     settings.bootstrap = 0;
     settings.estimate_device = true;

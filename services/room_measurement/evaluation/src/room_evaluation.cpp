@@ -15,9 +15,9 @@ namespace scanbus::room_evaluation {
 
 namespace {
 
-constexpr double kCornerMatch = 0.25;  // m: a measured wall is a true one when both ends are this near
-constexpr double kMinSeenShare = 0.3;  // of a wall's length in view, and at least
-constexpr double kMinSeenLength = 0.2; // m, for the wall to count as seen
+constexpr double kCornerMatch = 0.25;   // m: a measured wall is a true one when both ends are this near
+constexpr double kMinSeenShare = 0.3;   // of a wall's length in view, and at least
+constexpr double kMinSeenLength = 0.2;  // m, for the wall to count as seen
 
 // The room's corners in the frame the measurement reports in: the scanner's, turned by the
 // encoder's offset (the device reports yaw from its encoder's zero).
@@ -47,8 +47,8 @@ std::optional<std::vector<WallCheck>> match_walls(const room_measurement::RoomRe
     }
     if (!found) return std::nullopt;
     used[*found] = true;
-    checks.push_back(
-        {(truth[(*found + 1) % n] - truth[*found]).norm(), result.walls[i].length, result.walls[i].length_sigma, *found});
+    checks.push_back({(truth[(*found + 1) % n] - truth[*found]).norm(), result.walls[i].length,
+                      result.walls[i].length_sigma, *found});
   }
   return checks;
 }
@@ -76,7 +76,8 @@ void check_openings(const sim::RoomModel& room, const std::vector<Eigen::Vector2
       OpeningCheck check{truth_opening.from, truth_opening.to};
       double best = 0;
       for (size_t k = 0; k < measured.size(); ++k) {
-        const double overlap = std::min(measured[k].second, check.true_to) - std::max(measured[k].first, check.true_from);
+        const double overlap =
+            std::min(measured[k].second, check.true_to) - std::max(measured[k].first, check.true_from);
         if (overlap <= 0) continue;
         matched[k] = true;
         if (overlap <= best) continue;
@@ -107,13 +108,24 @@ SweepSummary summary_of(const std::string& name, const std::vector<const RoomCas
     ++s.rooms;
     s.measurable += c->measurable;
     switch (c->verdict) {
-      case Verdict::Measured: ++s.measured; break;
-      case Verdict::Inferred: ++s.inferred; break;
-      case Verdict::Wrong: ++s.wrong; break;
-      case Verdict::Refused: ++s.refused; break;
-      case Verdict::RefusedWrongly: ++s.refused_wrongly; break;
+      case Verdict::Measured:
+        ++s.measured;
+        break;
+      case Verdict::Inferred:
+        ++s.inferred;
+        break;
+      case Verdict::Wrong:
+        ++s.wrong;
+        break;
+      case Verdict::Refused:
+        ++s.refused;
+        break;
+      case Verdict::RefusedWrongly:
+        ++s.refused_wrongly;
+        break;
     }
-    if (c->verdict == Verdict::Wrong || (c->verdict == Verdict::Measured && c->max_wall_error() > 0.02)) ++s.ok_over_2cm;
+    if (c->verdict == Verdict::Wrong || (c->verdict == Verdict::Measured && c->max_wall_error() > 0.02))
+      ++s.ok_over_2cm;
     if (c->verdict == Verdict::Inferred) {  // wall errors and sigmas count; the 1 cm target is for seen rooms
       for (const auto& w : c->walls) {
         wall_errors.push_back(std::abs(w.error()));
@@ -177,11 +189,16 @@ SweepSummary summary_of(const std::string& name, const std::vector<const RoomCas
 
 const char* verdict_name(Verdict verdict) {
   switch (verdict) {
-    case Verdict::Measured: return "measured";
-    case Verdict::Inferred: return "inferred";
-    case Verdict::Wrong: return "wrong";
-    case Verdict::Refused: return "refused";
-    case Verdict::RefusedWrongly: return "refused_wrongly";
+    case Verdict::Measured:
+      return "measured";
+    case Verdict::Inferred:
+      return "inferred";
+    case Verdict::Wrong:
+      return "wrong";
+    case Verdict::Refused:
+      return "refused";
+    case Verdict::RefusedWrongly:
+      return "refused_wrongly";
   }
   return "unknown";
 }
@@ -240,7 +257,8 @@ RoomCase evaluate_room(const sim::GeneratedRoom& generated, const room_measureme
     c.corner_errors.push_back(nearest);
     c.corner_sigmas.push_back(result.corner_sigmas[i]);
   }
-  const bool inferred = std::any_of(result.walls.begin(), result.walls.end(), [](const auto& w) { return w.inferred(); });
+  const bool inferred =
+      std::any_of(result.walls.begin(), result.walls.end(), [](const auto& w) { return w.inferred(); });
   c.verdict = inferred ? Verdict::Inferred : Verdict::Measured;
   return c;
 }

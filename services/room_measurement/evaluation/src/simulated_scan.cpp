@@ -10,8 +10,8 @@
 namespace scanbus::room_evaluation {
 
 std::vector<Eigen::Vector3f> simulated_scan(const sim::RoomModel& room, const SimulatedScanSettings& settings) {
-  sim::SimulatedHardware hardware([&room](const Eigen::Vector3d& o, const Eigen::Vector3d& d) { return room.cast(o, d); },
-                                  settings.hardware);
+  sim::SimulatedHardware hardware(
+      [&room](const Eigen::Vector3d& o, const Eigen::Vector3d& d) { return room.cast(o, d); }, settings.hardware);
   scanner::ScannerCore core(hardware);
   core.begin();
   scanner_io::ScanAssembler assembler(scanner_io::RangeGate{});
@@ -26,7 +26,8 @@ std::vector<Eigen::Vector3f> simulated_scan(const sim::RoomModel& room, const Si
       pending += hardware.take_output();
       size_t end;
       while ((end = pending.find('\n')) != std::string::npos) {
-        const auto output = assembler.add(scanner_io::parse_line(pending.substr(0, end), scanner_io::Dialect::Scanbus), 0);
+        const auto output =
+            assembler.add(scanner_io::parse_line(pending.substr(0, end), scanner_io::Dialect::Scanbus), 0);
         pending.erase(0, end + 1);
         if (output.scan) {
           for (const auto& point : *output.scan) points.push_back(point.position);

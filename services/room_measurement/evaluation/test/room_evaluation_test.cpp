@@ -29,8 +29,8 @@ TEST(RoomGenerator, VisibilityOfAnLFromOneArm) {
   room.scanner = {5, 1, 1.2};  // in the arm along x: the far end of the other arm is out of sight
   const auto seen = sim::wall_visibility(room);
   ASSERT_EQ(seen.size(), 6u);
-  EXPECT_GT(seen[0], 0.9);  // the long wall beside the scanner
-  EXPECT_LT(seen[4], 0.05); // the far end of the other arm
+  EXPECT_GT(seen[0], 0.9);     // the long wall beside the scanner
+  EXPECT_LT(seen[4], 0.05);    // the far end of the other arm
   room.scanner = {1, 1, 1.2};  // in the corner both arms share: every wall in view
   for (double share : sim::wall_visibility(room)) EXPECT_GT(share, 0.5);
 }
@@ -68,7 +68,8 @@ TEST(RoomEvaluation, ARecessIsRefusedADoorIsAnOpening) {
 
   size_t doors_measured = 0, doors_openings = 0;
   for (unsigned seed = 1; seed <= 5; ++seed) {
-    const auto doors = room_evaluation::evaluate_room(sim::generate_room(sim::RoomCategory::Doors, seed), settings, false);
+    const auto doors =
+        room_evaluation::evaluate_room(sim::generate_room(sim::RoomCategory::Doors, seed), settings, false);
     if (doors.verdict != room_evaluation::Verdict::Measured) continue;
     ++doors_measured;
     for (const auto& wall : doors.measurement.walls) doors_openings += wall.openings.size();

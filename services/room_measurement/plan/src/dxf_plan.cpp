@@ -17,16 +17,18 @@ using room_measurement::RoomResult;
 // ACI colours: walls white/black by background, openings cyan, dimensions green, text yellow,
 // inferred walls magenta.
 constexpr int kWallColour = 7, kOpeningColour = 4, kDimensionColour = 3, kTextColour = 2, kInferredColour = 6;
-constexpr double kTextHeight = 0.12;        // m on the drawing: legible at a room's 1:50
-constexpr double kDimensionOffset = 0.35;   // m outside the wall: clear of it at a room's 1:50
+constexpr double kTextHeight = 0.12;       // m on the drawing: legible at a room's 1:50
+constexpr double kDimensionOffset = 0.35;  // m outside the wall: clear of it at a room's 1:50
 
 DL_Attributes on(const char* layer, int colour) { return DL_Attributes(layer, colour, -1, "CONTINUOUS", 1.0); }
 
 // "5.472 m %%p 0.004": %%p is DXF's plus-minus sign; no sigma when none was estimated.
 std::string metres(double value, double sigma, const char* unit = "m", int decimals = 3) {
   char text[64];
-  if (sigma > 0) std::snprintf(text, sizeof(text), "%.*f %s %%%%p %.*f", decimals, value, unit, decimals, sigma);
-  else std::snprintf(text, sizeof(text), "%.*f %s", decimals, value, unit);
+  if (sigma > 0)
+    std::snprintf(text, sizeof(text), "%.*f %s %%%%p %.*f", decimals, value, unit, decimals, sigma);
+  else
+    std::snprintf(text, sizeof(text), "%.*f %s", decimals, value, unit);
   return text;
 }
 
@@ -82,9 +84,9 @@ void write_line(DL_Dxf& dxf, DL_WriterA& dw, const Eigen::Vector2d& a, const Eig
 void write_text(DL_Dxf& dxf, DL_WriterA& dw, const Eigen::Vector2d& at, const std::string& text,
                 const char* layer = kTextLayer, int colour = kTextColour, double angle_deg = 0) {
   // Justification centre (1) and middle (2): `at` is the text's centre.
-  dxf.writeText(dw, DL_TextData(at.x(), at.y(), 0, at.x(), at.y(), 0, kTextHeight, 1.0, 0, 1, 2, text, "standard",
-                                angle_deg),
-                on(layer, colour));
+  dxf.writeText(
+      dw, DL_TextData(at.x(), at.y(), 0, at.x(), at.y(), 0, kTextHeight, 1.0, 0, 1, 2, text, "standard", angle_deg),
+      on(layer, colour));
 }
 
 // A builder's dimension outside the wall: extension lines, the dimension line with tick marks,

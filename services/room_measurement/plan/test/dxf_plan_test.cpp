@@ -121,7 +121,8 @@ TEST(DxfPlan, RoomThatDidNotCloseShowsCandidatesAndWhy) {
   ASSERT_EQ(drawing.lines.at(kWallLayer).size(), 1u);
   EXPECT_NEAR(length_of(drawing.lines.at(kWallLayer)), 2.5, 1e-6);
   EXPECT_EQ(drawing.lines.count(kDimensionLayer), 0u);
-  EXPECT_TRUE(drawing.has_text(kTextLayer, "not measured: walls_do_not_close: no wall seen over 95 degrees (candidate walls)"));
+  EXPECT_TRUE(
+      drawing.has_text(kTextLayer, "not measured: walls_do_not_close: no wall seen over 95 degrees (candidate walls)"));
 }
 
 TEST(DxfPlan, UnwritablePathIsAnErrorNamingIt) {

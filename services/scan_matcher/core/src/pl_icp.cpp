@@ -74,7 +74,8 @@ std::vector<LocalLine> local_lines(const std::vector<Eigen::Vector2d>& points, i
 
 struct ScanMatcher::Keyframe {
   Keyframe(const Pose2& pose, std::vector<Eigen::Vector2d> scan_points, const MatcherSettings& settings)
-      : pose(pose), points(std::move(scan_points)),
+      : pose(pose),
+        points(std::move(scan_points)),
         lines(local_lines(points, settings.line_neighbours, settings.min_line_length, settings.max_segment_gap)) {}
   Pose2 pose;  // where the scan was taken
   std::vector<Eigen::Vector2d> points;
@@ -103,7 +104,6 @@ struct ScanMatcher::Reference {
   std::vector<LocalLine> lines;
   KdTree tree{2, set, {10}};
 };
-
 
 ScanMatcher::ScanMatcher(MatcherSettings settings) : settings_(settings) {}
 ScanMatcher::~ScanMatcher() = default;
@@ -178,9 +178,8 @@ MatchResult ScanMatcher::align_to(const Reference& reference, const std::vector<
       if (!line.valid) continue;
       matches.push_back({i, line.normal, line.normal.dot(q - line.centre)});
     }
-    result.inliers = static_cast<size_t>(std::count_if(matches.begin(), matches.end(), [&](const auto& m) {
-      return std::abs(m.error) < settings_.inlier_distance;
-    }));
+    result.inliers = static_cast<size_t>(std::count_if(
+        matches.begin(), matches.end(), [&](const auto& m) { return std::abs(m.error) < settings_.inlier_distance; }));
     if (matches.size() < settings_.min_correspondences) {
       result.quality = MatchQuality::TooFewCorrespondences;
       break;
@@ -282,9 +281,9 @@ MatchResult ScanMatcher::best_alignment(const std::vector<Eigen::Vector2d>& poin
     motions.push_back({guess.x, guess.y, Pose2::normalize(guess.theta + turn * kDegree)});
   for (const Pose2& motion : motions) {
     MatchResult result = align_to(*map_, points, pose_ * motion, prior);
-    const bool better = result.quality == MatchQuality::Ok &&
-                        (best.quality != MatchQuality::Ok || result.inliers > best.inliers ||
-                         (result.inliers == best.inliers && result.residual < best.residual));
+    const bool better =
+        result.quality == MatchQuality::Ok && (best.quality != MatchQuality::Ok || result.inliers > best.inliers ||
+                                               (result.inliers == best.inliers && result.residual < best.residual));
     if (better) best = result;
   }
   return best;

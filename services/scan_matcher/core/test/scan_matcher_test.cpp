@@ -6,10 +6,10 @@
 #include <limits>
 #include <random>
 
+#include "laser_world.hpp"
 #include "scanbus/scan_matcher/imu_guess.hpp"
 #include "scanbus/scan_matcher/laser_log.hpp"
 #include "scanbus/scan_matcher/pl_icp.hpp"
-#include "laser_world.hpp"
 
 using namespace scanbus::scan_matcher;
 using scanbus::test_support::LaserModel;
@@ -63,10 +63,10 @@ struct Flight {
 
 // Per-scan increment errors: root mean square and worst, per laser axis and in rotation.
 struct FlightErrors {
-  Eigen::Vector3d rms = Eigen::Vector3d::Zero();    // x (m), y (m), theta (deg)
+  Eigen::Vector3d rms = Eigen::Vector3d::Zero();  // x (m), y (m), theta (deg)
   Eigen::Vector3d worst = Eigen::Vector3d::Zero();
   int failed = 0, keyframes = 0;
-  Eigen::Matrix3d covariance;                        // of the last match
+  Eigen::Matrix3d covariance;  // of the last match
 };
 
 // Flies the laser through the world with 2 cm range noise and compares every matched
@@ -108,13 +108,15 @@ void expect_within_targets(const FlightErrors& errors) {
 }  // namespace
 
 TEST(PlIcpSynthetic, Room) {
-  const FlightErrors errors = fly(LaserWorld::room(), {{-1.5, -0.5, 0.2}, {0.06, 0.01, 2 * M_PI / 180}, 40, std::nullopt}, {});
+  const FlightErrors errors =
+      fly(LaserWorld::room(), {{-1.5, -0.5, 0.2}, {0.06, 0.01, 2 * M_PI / 180}, 40, std::nullopt}, {});
   expect_within_targets(errors);
   EXPECT_GT(errors.keyframes, 3);
 }
 
 TEST(PlIcpSynthetic, CorridorWithDoorRecesses) {
-  expect_within_targets(fly(LaserWorld::corridor(), {{0, 0.1, 0.05}, {0.15, 0.0, -0.3 * M_PI / 180}, 60, std::nullopt}, {}));
+  expect_within_targets(
+      fly(LaserWorld::corridor(), {{0, 0.1, 0.05}, {0.15, 0.0, -0.3 * M_PI / 180}, 60, std::nullopt}, {}));
 }
 
 // The MAV's laser looks down (x axis at -90 degrees in the x-forward, y-up plane), 90 degree
@@ -148,8 +150,9 @@ TEST(PlIcpSynthetic, DownwardOverFlatGroundRecoversHeightAndPitch) {
 
 TEST(PlIcp, BadRangesAreDroppedAndTooFewPointsHoldThePose) {
   ScanMatcher matcher;
-  Scan scan{-M_PI / 2, M_PI / 4, {1.0f, std::numeric_limits<float>::quiet_NaN(), 0.0f,
-                                  std::numeric_limits<float>::infinity(), 45.0f}};
+  Scan scan{-M_PI / 2,
+            M_PI / 4,
+            {1.0f, std::numeric_limits<float>::quiet_NaN(), 0.0f, std::numeric_limits<float>::infinity(), 45.0f}};
   EXPECT_EQ(matcher.points_of(scan).size(), 1u);  // NaN, zero, inf and beyond 30 m dropped
   matcher.add_scan(scan);
   const MatchResult result = matcher.add_scan(scan);
@@ -222,8 +225,7 @@ TEST(ImuGuess, TurnAboutTheLaserAxis) {
 TEST(ImuGuess, HistoryGivesTheLastSampleAtOrBeforeAStamp) {
   OrientationHistory history(3);
   EXPECT_FALSE(history.at(1.0));
-  for (int i = 1; i <= 4; ++i)
-    history.add(i, Eigen::Quaterniond(Eigen::AngleAxisd(0.1 * i, Eigen::Vector3d::UnitZ())));
+  for (int i = 1; i <= 4; ++i) history.add(i, Eigen::Quaterniond(Eigen::AngleAxisd(0.1 * i, Eigen::Vector3d::UnitZ())));
   EXPECT_FALSE(history.at(1.5)) << "sample 1 fell out of the bounded history";
   EXPECT_NEAR(Eigen::AngleAxisd(*history.at(3.5)).angle(), 0.3, 1e-12);
   history.add(3.2, Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ())));  // arrived late

@@ -38,14 +38,19 @@ ScanOutput ScannerSession::line(const DeviceLine& line, double stamp) {
       state_ = line.status.state == 2 ? DeviceState::Scanning : DeviceState::Idle;
       if (state_ == DeviceState::Idle) maybe_start();
       break;
-    case LineKind::DeviceError: problems_.push_back("device: " + line.text); break;
-    case LineKind::Measurement: state_ = DeviceState::Scanning; break;
+    case LineKind::DeviceError:
+      problems_.push_back("device: " + line.text);
+      break;
+    case LineKind::Measurement:
+      state_ = DeviceState::Scanning;
+      break;
     case LineKind::Done:
       state_ = DeviceState::Idle;
       start_sent_ = false;
       maybe_start();
       break;
-    default: break;
+    default:
+      break;
   }
   return output;
 }
@@ -56,9 +61,15 @@ void ScannerSession::command(const SessionCommand& command) {
     return;
   }
   switch (command.kind) {
-    case SessionCommand::Start: start_scan(); break;
-    case SessionCommand::Stop: to_device_.push_back("STOP"); break;
-    case SessionCommand::Status: to_device_.push_back("STATUS"); break;
+    case SessionCommand::Start:
+      start_scan();
+      break;
+    case SessionCommand::Stop:
+      to_device_.push_back("STOP");
+      break;
+    case SessionCommand::Status:
+      to_device_.push_back("STATUS");
+      break;
     case SessionCommand::SetResolution:
       if (command.resolution < 0 || command.resolution > 2) {
         problems_.push_back("resolution " + std::to_string(command.resolution) + " does not exist (0, 1, 2)");
@@ -76,7 +87,8 @@ std::vector<std::string> ScannerSession::take_problems() { return std::exchange(
 
 void ScannerSession::maybe_start() {
   const uint64_t completed = assembler_.counters().scans;
-  if (settings_.autostart && !start_sent_ && (settings_.scans == 0 || completed < static_cast<uint64_t>(settings_.scans)))
+  if (settings_.autostart && !start_sent_ &&
+      (settings_.scans == 0 || completed < static_cast<uint64_t>(settings_.scans)))
     start_scan();
 }
 

@@ -76,10 +76,12 @@ TEST(DeviceProtocol, LegacyThesisLines) {
 
 TEST(ScanAssembler, RevolutionsScansAndGaps) {
   ScanAssembler assembler(RangeGate{0.05, 40});
-  auto feed = [&](const std::string& payload) { return assembler.add(parse_line(framed(payload), Dialect::Scanbus), 1.0); };
+  auto feed = [&](const std::string& payload) {
+    return assembler.add(parse_line(framed(payload), Dialect::Scanbus), 1.0);
+  };
   feed("H scanbus-scanner 1 0.1.0");
   feed("M 0 0 9000 200 10");
-  feed("M 1 100 9000 1 0");    // no return: out of range, kept in the batch, not a point
+  feed("M 1 100 9000 1 0");     // no return: out of range, kept in the batch, not a point
   feed("M 4 200 9000 200 10");  // 2 and 3 lost
   auto lap = feed("L 0 9000");
   ASSERT_TRUE(lap.revolution.has_value());
@@ -101,7 +103,9 @@ TEST(ScanAssembler, RevolutionsScansAndGaps) {
 
 TEST(ScanAssembler, DeviceRestartAbortsThePartialScan) {
   ScanAssembler assembler(RangeGate{});
-  auto feed = [&](const std::string& payload) { return assembler.add(parse_line(framed(payload), Dialect::Scanbus), 1.0); };
+  auto feed = [&](const std::string& payload) {
+    return assembler.add(parse_line(framed(payload), Dialect::Scanbus), 1.0);
+  };
   feed("M 0 0 9000 200 10");
   feed("L 0 9000");
   feed("H scanbus-scanner 1 0.1.0");  // power cycle: sequence starts over, no gap
@@ -113,7 +117,9 @@ TEST(ScanAssembler, DeviceRestartAbortsThePartialScan) {
 
 TEST(ScanAssembler, JoiningMidScanPublishesNoPartialScan) {
   ScanAssembler assembler(RangeGate{});
-  auto feed = [&](const std::string& payload) { return assembler.add(parse_line(framed(payload), Dialect::Scanbus), 1.0); };
+  auto feed = [&](const std::string& payload) {
+    return assembler.add(parse_line(framed(payload), Dialect::Scanbus), 1.0);
+  };
   feed("M 40 0 9000 200 10");
   feed("L 5 5700");
   EXPECT_FALSE(feed("D 0 27").scan.has_value());

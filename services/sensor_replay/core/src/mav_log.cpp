@@ -67,7 +67,8 @@ std::vector<RecordRef> records_in_time_order(const MavLog& log) {
   add(log.fixes, RecordKind::Gps);
   add(log.baros, RecordKind::Baro);
   add(log.truths, RecordKind::Truth);
-  std::stable_sort(records.begin(), records.end(), [](const RecordRef& a, const RecordRef& b) { return a.stamp < b.stamp; });
+  std::stable_sort(records.begin(), records.end(),
+                   [](const RecordRef& a, const RecordRef& b) { return a.stamp < b.stamp; });
   return records;
 }
 
@@ -101,7 +102,8 @@ void write_mav_log(const std::string& path, const MavLog& log) {
         break;
       }
       case RecordKind::Baro:
-        out << "BARO " << log.baros[record.index].stamp << ' ' << std::setprecision(2) << log.baros[record.index].pressure;
+        out << "BARO " << log.baros[record.index].stamp << ' ' << std::setprecision(2)
+            << log.baros[record.index].pressure;
         break;
       case RecordKind::Truth: {
         const auto& r = log.truths[record.index];

@@ -59,8 +59,8 @@ Eigen::Isometry3d TransformSeries::at(double stamp, double max_extrapolation) co
   const double outside = outside_by(stamp);
   if (std::abs(outside) > max_extrapolation) {
     throw TransformError("stamp " + seconds(stamp) + " is " + seconds(std::abs(outside)) + " s " +
-                         (outside < 0 ? "before the oldest" : "after the newest") + " transform (" +
-                         seconds(oldest()) + " to " + seconds(newest()) + ")");
+                         (outside < 0 ? "before the oldest" : "after the newest") + " transform (" + seconds(oldest()) +
+                         " to " + seconds(newest()) + ")");
   }
   if (outside < 0) return samples_.front().second;
   if (outside > 0) return samples_.back().second;
@@ -78,11 +78,13 @@ TransformBuffer::Edge& TransformBuffer::edge(const std::string& parent, const st
   if (found == edges_.end()) {
     for (auto up = edges_.find(parent); up != edges_.end(); up = edges_.find(up->second.parent))
       if (up->second.parent == child)
-        throw TransformError("transform '" + parent + "' -> '" + child + "' would make '" + child + "' its own ancestor");
+        throw TransformError("transform '" + parent + "' -> '" + child + "' would make '" + child +
+                             "' its own ancestor");
   }
   if (found == edges_.end()) found = edges_.emplace(child, Edge{parent, true, {}, TransformSeries(cache_time_)}).first;
   if (found->second.parent != parent)
-    throw TransformError("frame '" + child + "' already has parent '" + found->second.parent + "', not '" + parent + "'");
+    throw TransformError("frame '" + child + "' already has parent '" + found->second.parent + "', not '" + parent +
+                         "'");
   return found->second;
 }
 
@@ -125,7 +127,8 @@ Eigen::Isometry3d TransformBuffer::up_to(const std::string& frame, const std::st
 Eigen::Isometry3d TransformBuffer::lookup(const std::string& target, const std::string& source, double stamp) const {
   // Only the edges below the frames' lowest common ancestor count, as in tf2.
   const std::vector<std::string> from_source = chain(source), from_target = chain(target);
-  const auto common = std::find_first_of(from_source.begin(), from_source.end(), from_target.begin(), from_target.end());
+  const auto common =
+      std::find_first_of(from_source.begin(), from_source.end(), from_target.begin(), from_target.end());
   if (common == from_source.end()) {
     throw TransformError("frames '" + target + "' and '" + source + "' are not connected (roots '" +
                          from_target.back() + "' and '" + from_source.back() + "')");

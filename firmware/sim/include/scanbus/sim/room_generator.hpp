@@ -21,11 +21,11 @@ enum class RoomCategory {
   ChimneyBreast,  // a protrusion from one wall
   LShape,
   TShape,
-  Angled,         // a wall at an angle other than 90 degrees (a cut corner, a skewed side)
-  Furniture,      // a wardrobe and a tall shelf against walls
-  NearWall,       // the scanner in a corner, 0.5-0.8 m from two walls
-  Closet,         // a small room whose floor may be out of the scanner's view
-  Mixed,          // doors, furniture and an alcove together
+  Angled,     // a wall at an angle other than 90 degrees (a cut corner, a skewed side)
+  Furniture,  // a wardrobe and a tall shelf against walls
+  NearWall,   // the scanner in a corner, 0.5-0.8 m from two walls
+  Closet,     // a small room whose floor may be out of the scanner's view
+  Mixed,      // doors, furniture and an alcove together
 };
 
 const std::vector<RoomCategory>& room_categories();

@@ -13,9 +13,9 @@
 namespace scanbus::sim {
 
 struct Opening {
-  size_t wall = 0;                // wall i runs from corner i to corner i + 1
-  double from = 0, to = 0;        // m along the wall from its first corner
-  double bottom = 0, top = 2.0;   // m above the floor
+  size_t wall = 0;               // wall i runs from corner i to corner i + 1
+  double from = 0, to = 0;       // m along the wall from its first corner
+  double bottom = 0, top = 2.0;  // m above the floor
 };
 
 // A floor-to-ceiling wall outside the room, seen through its openings: a corridor's far
@@ -25,7 +25,7 @@ struct OutsideWall {
 };
 
 struct Box {
-  Eigen::Vector3d min, max;       // axis-aligned in room coordinates
+  Eigen::Vector3d min, max;  // axis-aligned in room coordinates
 };
 
 struct RoomModel {
@@ -36,13 +36,15 @@ struct RoomModel {
   std::vector<Opening> openings;
   std::vector<OutsideWall> outside_walls;
   std::vector<Box> boxes;
-  Eigen::Vector3d scanner{0, 0, 1.2};    // scanner origin in room coordinates
-  double heading = 0;                    // rad, scanner x axis against the room's x axis
+  Eigen::Vector3d scanner{0, 0, 1.2};  // scanner origin in room coordinates
+  double heading = 0;                  // rad, scanner x axis against the room's x axis
 
   // Distance from an origin along a unit direction, both in the scanner frame; nullopt when
   // the ray escapes.
   std::optional<double> cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
-  std::optional<double> cast(const Eigen::Vector3d& direction) const { return cast(Eigen::Vector3d::Zero(), direction); }
+  std::optional<double> cast(const Eigen::Vector3d& direction) const {
+    return cast(Eigen::Vector3d::Zero(), direction);
+  }
   // Distance from a point in the scanner frame to the nearest surface.
   double distance_to_surface(const Eigen::Vector3d& point) const;
 

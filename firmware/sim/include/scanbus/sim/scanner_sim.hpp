@@ -8,11 +8,11 @@
 namespace scanbus::sim {
 
 struct ScannerSimOptions {
-  std::string room_file;    // empty: the built-in thesis case 1 room
-  std::string link;         // symlink to the pty, if set
-  double speed = 1.0;       // times real time
+  std::string room_file;  // empty: the built-in thesis case 1 room
+  std::string link;       // symlink to the pty, if set
+  double speed = 1.0;     // times real time
   unsigned seed = 1;
-  double noise = 0.02;      // m
+  double noise = 0.02;  // m
   double dropout = 0.002;
   double unplug_at = -1;    // s of simulated time; negative: never
   double unplug_for = 2.0;  // s of real time

@@ -20,25 +20,25 @@ namespace scanbus::sim {
 // conversion): zero everywhere is the ideal device. These model the world, not the
 // measurement: the room measurement never reads them (docs/room_simulation.md).
 struct DeviceErrors {
-  double lever_arm = 0;         // m: the LiDAR's optical centre sits this far off the pitch axis,
-                                // perpendicular to the beam (above it when the beam is level)
-  double encoder_offset = 0;    // rad: the pole's true zero against the encoder's
-  double yaw_eccentricity = 0;  // rad: amplitude of a once-a-turn yaw error (an eccentric gear)
-  double yaw_phase = 0;         // rad: where around the turn that error peaks
-  double servo_offset = 0;      // rad: every pitch off by this (the horn's spline)
-  double servo_error = 0;       // rad, one sigma: each commanded angle's own repeatable error
-  double range_bias = 0;        // m: added to every range (residual of the device's calibration)
-  double range_noise_per_m = 0; // m of noise sigma per metre of range, on top of range_noise
+  double lever_arm = 0;          // m: the LiDAR's optical centre sits this far off the pitch axis,
+                                 // perpendicular to the beam (above it when the beam is level)
+  double encoder_offset = 0;     // rad: the pole's true zero against the encoder's
+  double yaw_eccentricity = 0;   // rad: amplitude of a once-a-turn yaw error (an eccentric gear)
+  double yaw_phase = 0;          // rad: where around the turn that error peaks
+  double servo_offset = 0;       // rad: every pitch off by this (the horn's spline)
+  double servo_error = 0;        // rad, one sigma: each commanded angle's own repeatable error
+  double range_bias = 0;         // m: added to every range (residual of the device's calibration)
+  double range_noise_per_m = 0;  // m of noise sigma per metre of range, on top of range_noise
 };
 
 struct HardwareSettings {
-  double range_noise = 0.02;        // m, one sigma at zero range (LIDAR-Lite v3: +-2.5 cm typical)
-  double dropout = 0.002;           // probability an acquisition returns nothing
-  double full_duty_rpm = 105;       // pole RPM at duty 255: 350 RPM gearbox output through 15/50
+  double range_noise = 0.02;          // m, one sigma at zero range (LIDAR-Lite v3: +-2.5 cm typical)
+  double dropout = 0.002;             // probability an acquisition returns nothing
+  double full_duty_rpm = 105;         // pole RPM at duty 255: 350 RPM gearbox output through 15/50
   double motor_time_constant = 0.15;  // s
   double servo_degrees_per_s = 300;   // standard servo: 0.2 s per 60 degrees
-  double acquisition_time = 0.02;   // s: the LiDAR's 50 Hz
-  double max_range = 40.0;          // m
+  double acquisition_time = 0.02;     // s: the LiDAR's 50 Hz
+  double max_range = 40.0;            // m
   DeviceErrors errors;
   unsigned seed = 1;
 };
@@ -79,10 +79,10 @@ class SimulatedHardware : public scanner::Hal {
   std::uniform_real_distribution<double> uniform_{0.0, 1.0};
   std::vector<double> servo_errors_;  // rad, by commanded degree
   double time_ = 0;
-  double pole_angle_ = 0;        // rad
-  double pole_speed_ = 0;        // rad/s
-  double target_speed_ = 0;      // rad/s from the duty
-  double pitch_ = 90;            // degrees, actual servo position
+  double pole_angle_ = 0;    // rad
+  double pole_speed_ = 0;    // rad/s
+  double target_speed_ = 0;  // rad/s from the duty
+  double pitch_ = 90;        // degrees, actual servo position
   double pitch_target_ = 90;
   int32_t count_ = 0;
   double edge_time_ = 0;

@@ -20,8 +20,8 @@ struct LaserScanData {  // sensor_msgs/LaserScan's geometry
 };
 
 struct ScanGating {
-  double range_max = 30.0;      // m (the MAV paper keeps up to 30 m)
-  double opening = 2 * M_PI;    // rad kept around the middle ray (the paper: 90 degrees)
+  double range_max = 30.0;    // m (the MAV paper keeps up to 30 m)
+  double opening = 2 * M_PI;  // rad kept around the middle ray (the paper: 90 degrees)
 };
 
 // The scan's returns in the laser frame (x along angle 0, z = 0). No return (NaN, inf,

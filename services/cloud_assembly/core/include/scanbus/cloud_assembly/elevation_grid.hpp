@@ -25,7 +25,7 @@ struct ElevationGridSettings {
 // (smallest x), as GeoTIFF and images store them. Empty cells hold NaN and count 0.
 struct ElevationGrid {
   double cell_size = 0;
-  double west = 0, north = 0;   // m: the map-frame x of column 0's west edge, y of row 0's north edge
+  double west = 0, north = 0;  // m: the map-frame x of column 0's west edge, y of row 0's north edge
   size_t columns = 0, rows = 0;
   std::vector<float> height;    // m, map frame
   std::vector<float> stdev;     // m: the spread of the cell's point heights (not the mean's uncertainty)

@@ -21,9 +21,9 @@ struct BoxSearchSettings {
                                     // to four sigmas of the ground's own spread when that is more)
   double cluster_tolerance = 0.05;  // m between neighbouring points of one box
   size_t min_cluster_points = 30;
-  double top_band = 0.04;           // m: a box's footprint is drawn from its points this near the
-                                    // plane of its top (its sides, seen at a slant, would widen it)
-  double noise = 0.02;              // m: a first guess of the points' noise (estimated with the sides)
+  double top_band = 0.04;  // m: a box's footprint is drawn from its points this near the
+                           // plane of its top (its sides, seen at a slant, would widen it)
+  double noise = 0.02;     // m: a first guess of the points' noise (estimated with the sides)
 };
 
 struct BoxMeasurement {

@@ -32,7 +32,7 @@ scan_matcher::MatcherSettings mav_matcher_settings();
 struct FlightEvaluationSettings {
   scan_matcher::MatcherSettings matcher = mav_matcher_settings();
   pose_estimation::FusionSettings fusion;
-  bool ground_clearance = true;  // false: the fusion of barometer and scan matcher alone
+  bool ground_clearance = true;                       // false: the fusion of barometer and scan matcher alone
   cloud_assembly::ScanGating gating{30.0, M_PI / 2};  // the paper: 30 m, 90 degrees
   BoxSearchSettings boxes;
   cloud_assembly::ElevationGridSettings elevation;  // the fused cloud's elevation grid
@@ -43,7 +43,7 @@ struct FlightEvaluationSettings {
 
 // A ground cloud's heights against the true ground, over the points where it is scored.
 struct GroundModelError {
-  size_t points = 0;  // scored
+  size_t points = 0;                           // scored
   double rmse = NAN, median = NAN, p95 = NAN;  // m, of the height error (median and p95 of its size)
   double bias = NAN;                           // m, the mean signed error (+: the cloud lies high)
   // The plane through the cloud's scored points against the plane through the true ground at
@@ -85,25 +85,25 @@ constexpr const char* kHeightSourceNames[kHeightSources] = {"barometer", "scan_m
 struct HeightSample {
   double stamp = 0, truth = 0;
   double height[kHeightSources] = {0, 0, 0, 0};  // by HeightSource (GPS: NaN in a log without fixes)
-  double clearance = NAN;        // m above the ground under the pose's scan (its median return), NaN when none
-  double fused_sigma = NAN;      // m, the standard deviation the pose carries for its fused height
+  double clearance = NAN;    // m above the ground under the pose's scan (its median return), NaN when none
+  double fused_sigma = NAN;  // m, the standard deviation the pose carries for its fused height
 };
 
 struct FlightEvaluation {
   size_t scans = 0, poses = 0, matches_failed = 0, changes_rejected = 0;
-  size_t clearances = 0;     // poses whose scan showed the ground
-  size_t ground_cells = 0;  // corners of the fusion's elevation map at the end
+  size_t clearances = 0;                              // poses whose scan showed the ground
+  size_t ground_cells = 0;                            // corners of the fusion's elevation map at the end
   double height_rmse[kHeightSources] = {0, 0, 0, 0};  // m against the truth, by HeightSource (NaN: no such height)
-  double fusion_ms_per_update = 0;    // wall time of the pose estimator per scan
+  double fusion_ms_per_update = 0;                    // wall time of the pose estimator per scan
   double fused_within_sigma[2] = {NAN, NAN};  // share of poses whose fused height is within 1 and 2 of its sigmas
-  bool has_boxes = false;             // the log names its boxes (scenario IV)
-  BoxEvaluation boxes[kHeightSources];  // the cloud built with each height
-  bool has_ground = false;            // the true ground is known (settings.true_ground)
-  GroundModelError ground[kHeightSources];  // the cloud built with each height against it
+  bool has_boxes = false;                     // the log names its boxes (scenario IV)
+  BoxEvaluation boxes[kHeightSources];        // the cloud built with each height
+  bool has_ground = false;                    // the true ground is known (settings.true_ground)
+  GroundModelError ground[kHeightSources];    // the cloud built with each height against it
   std::vector<Eigen::Vector3f> cloud[kHeightSources];  // every return in the map frame, by HeightSource
-  cloud_assembly::ElevationGrid elevation;  // of the fused cloud (no cells when it is empty)
-  GroundModelError elevation_error;         // its cells' heights against the true ground (cell_average_truth)
-  std::vector<HeightSample> heights;      // one per pose
+  cloud_assembly::ElevationGrid elevation;             // of the fused cloud (no cells when it is empty)
+  GroundModelError elevation_error;   // its cells' heights against the true ground (cell_average_truth)
+  std::vector<HeightSample> heights;  // one per pose
 };
 
 // `progress(done, total)` is called now and then. Throws sensor_replay::MavLogError when

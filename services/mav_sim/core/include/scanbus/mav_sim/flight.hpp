@@ -22,16 +22,16 @@ namespace scanbus::mav_sim {
 // laser mounted slightly off its drawing, a range bias). Errors "per flight" are drawn once
 // from the seed. FlightSettings::noise_scale multiplies every error and sigma here.
 struct LaserSettings {
-  double rate = 30;                      // Hz (the paper's laser)
-  double field_of_view = M_PI / 2;       // rad, centred on straight down (the paper keeps 90 degrees)
-  double step = 0.25 * M_PI / 180;       // rad between rays
-  double noise = 0.02;                   // m, Gaussian per range (a UTM-30LX class scanner: +-30 mm
-                                         // to 10 m on its data sheet; grass and soil are worse than its target)
-  double range_bias = 0.01;              // m, sigma of an offset of every range, per flight (within that +-30 mm)
+  double rate = 30;                        // Hz (the paper's laser)
+  double field_of_view = M_PI / 2;         // rad, centred on straight down (the paper keeps 90 degrees)
+  double step = 0.25 * M_PI / 180;         // rad between rays
+  double noise = 0.02;                     // m, Gaussian per range (a UTM-30LX class scanner: +-30 mm
+                                           // to 10 m on its data sheet; grass and soil are worse than its target)
+  double range_bias = 0.01;                // m, sigma of an offset of every range, per flight (within that +-30 mm)
   double misalignment = 0.3 * M_PI / 180;  // rad, sigma per axis of the mount's rotation away from its
                                            // drawing, per flight (a bracket, not calibrated); the log
                                            // carries the drawing
-  double range_max = 30;                 // m
+  double range_max = 30;                   // m
   // The laser in base_link as drawn: 10 cm below the centre, its x axis straight down and its z axis
   // forward, so its scan plane is the body's y-z plane (a push-broom across the flight) and
   // turns with the roll. As x y z roll pitch yaw: a pitch of +90 degrees.
@@ -45,7 +45,7 @@ struct LaserSettings {
 enum class GpsMode { rtk_fixed, rtk_float, standalone };
 
 struct SensorNoise {
-  double imu_rate = 10;                  // Hz (the paper's pose rate)
+  double imu_rate = 10;                      // Hz (the paper's pose rate)
   double imu_roll_pitch = 0.3 * M_PI / 180;  // rad, white (an AHRS's attitude in flight)
   double imu_yaw = 1.0 * M_PI / 180;         // rad, white
   // GPS as the MAV's navigation solution delivers it: slow wander from a velocity error
@@ -53,23 +53,23 @@ struct SensorNoise {
   // fix. The receiver reports the sigma its error really has (the stationary sigma of both).
   // Defaults: RTK fixed (with_gps()). A receiver that wanders by metres smears a cloud built
   // over several passes however good the height is.
-  double gps_rate = 10;                  // Hz
-  double gps_horizontal = 0.01, gps_vertical = 0.02;                    // m, white
+  double gps_rate = 10;                                                    // Hz
+  double gps_horizontal = 0.01, gps_vertical = 0.02;                       // m, white
   double gps_velocity_horizontal = 0.0005, gps_velocity_vertical = 0.001;  // m/s, the wander's velocity error
-  double gps_velocity_time = 20;         // s, its correlation time
-  double gps_wander_time = 60;           // s, the leak that bounds the wander
+  double gps_velocity_time = 20;                                           // s, its correlation time
+  double gps_wander_time = 60;                                             // s, the leak that bounds the wander
   // Barometer (an MS5611 class sensor).
-  double baro_rate = 10;                 // Hz
-  double baro_noise = 0.1;               // m, white: the data sheet's 10 cm resolution
-  double baro_wash = 0.2;                // m, the propellers' wash and gusts, correlated over baro_wash_time
-  double baro_wash_time = 1.0;           // s
-  double baro_takeoff = 0.15;            // m, sigma per flight: referenced on the ground, off once the
-                                         // propellers spin up (ground effect, the wait before take-off)
-  double baro_warmup = 0.3;              // m, sigma per flight: the sensor warming in flight, reached
-                                         // over baro_warmup_time (exponentially)
-  double baro_warmup_time = 100;         // s
-  double baro_weather = 0.001;           // m/s, sigma per flight: the weather's pressure trend (about
-                                         // 1 hPa in 2 hours)
+  double baro_rate = 10;          // Hz
+  double baro_noise = 0.1;        // m, white: the data sheet's 10 cm resolution
+  double baro_wash = 0.2;         // m, the propellers' wash and gusts, correlated over baro_wash_time
+  double baro_wash_time = 1.0;    // s
+  double baro_takeoff = 0.15;     // m, sigma per flight: referenced on the ground, off once the
+                                  // propellers spin up (ground effect, the wait before take-off)
+  double baro_warmup = 0.3;       // m, sigma per flight: the sensor warming in flight, reached
+                                  // over baro_warmup_time (exponentially)
+  double baro_warmup_time = 100;  // s
+  double baro_weather = 0.001;    // m/s, sigma per flight: the weather's pressure trend (about
+                                  // 1 hPa in 2 hours)
 };
 
 // `noise` with the GPS part of a receiver in `mode`.
@@ -85,19 +85,19 @@ enum class FlightPattern {
 };
 
 struct FlightSettings {
-  int scenario = 1;                      // 1..4 as in the paper
+  int scenario = 1;  // 1..4 as in the paper
   FlightPattern pattern = FlightPattern::paper;
-  double duration = 180;                 // s (scenario I: about 3 minutes)
-  double height = 3.0;                   // m above the ground at the map origin, on average (the MAV holds
-                                         // its altitude: over a terrain its clearance changes)
-  Eigen::Vector3d box_size{0.6, 0.4, 0.3};  // scenario IV: length (along the flight), width, height
-  Terrain terrain;                       // the ground under every scenario (flat by default, as in the paper)
-  double start_stamp = 1700000000.0;     // s, the first sample's stamp
+  double duration = 180;                           // s (scenario I: about 3 minutes)
+  double height = 3.0;                             // m above the ground at the map origin, on average (the MAV holds
+                                                   // its altitude: over a terrain its clearance changes)
+  Eigen::Vector3d box_size{0.6, 0.4, 0.3};         // scenario IV: length (along the flight), width, height
+  Terrain terrain;                                 // the ground under every scenario (flat by default, as in the paper)
+  double start_stamp = 1700000000.0;               // s, the first sample's stamp
   Eigen::Vector3d origin{52.5163, 13.3777, 34.0};  // lat, lon (deg), alt (m) of the map origin
   unsigned seed = 1;
   LaserSettings laser;
   SensorNoise noise;
-  double noise_scale = 1;                // multiplies every sensor error and sigma (laser's and noise's)
+  double noise_scale = 1;  // multiplies every sensor error and sigma (laser's and noise's)
 };
 
 struct BodyState {

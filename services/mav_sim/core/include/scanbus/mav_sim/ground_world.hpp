@@ -13,9 +13,9 @@ namespace scanbus::mav_sim {
 
 struct Box {
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();
-  double yaw = 0;                                 // rad, about z
+  double yaw = 0;                                  // rad, about z
   Eigen::Vector3d size = Eigen::Vector3d::Ones();  // length (along its x), width, height; m
-  double base = 0;                                // m: its footprint's height (GroundWorld sets it)
+  double base = 0;                                 // m: its footprint's height (GroundWorld sets it)
 };
 
 class GroundWorld {

@@ -27,18 +27,20 @@ struct Mound {
 // `direction` (rad from x), over a ramp `width` wide (a kerb, a terrace edge).
 struct Step {
   Eigen::Vector2d at = Eigen::Vector2d::Zero();
-  double direction = 0;  // rad
+  double direction = 0;               // rad
   double height = 0.2, width = 0.02;  // m
 
   // Signed distance of (x, y) across the step's line, towards where the ground is higher.
-  double across(const Eigen::Vector2d& xy) const { return Eigen::Vector2d(std::cos(direction), std::sin(direction)).dot(xy - at); }
+  double across(const Eigen::Vector2d& xy) const {
+    return Eigen::Vector2d(std::cos(direction), std::sin(direction)).dot(xy - at);
+  }
 };
 
 struct Terrain {
   Eigen::Vector2d slope = Eigen::Vector2d::Zero();  // dz/dx, dz/dy: a plane through z = 0 at the origin
   std::vector<Mound> mounds;
   std::vector<Step> steps;
-  double roughness = 0;            // m RMS of rough ground (grass, gravel, ploughed soil)
+  double roughness = 0;               // m RMS of rough ground (grass, gravel, ploughed soil)
   double roughness_wavelength = 0.5;  // m, its typical wavelength
   unsigned roughness_seed = 1;
 

@@ -25,13 +25,13 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include <cstdint>
 #include <deque>
 #include <map>
-#include <utility>
 #include <memory>
 #include <optional>
+#include <utility>
 #include <vector>
-#include <cstdint>
 
 #include "scanbus/pose_estimation/laser_height.hpp"
 
@@ -41,50 +41,50 @@ namespace scanbus::pose_estimation {
 // them (docs/architecture.md, "What the fusion's defaults assume"), never from the simulator's
 // settings, which model the world apart (services/mav_sim).
 struct FusionSettings {
-  double window = 3.0;              // s of nodes kept in the problem
-  double baro_sigma = 0.3;          // m, white noise of one barometer altitude: an MS5611 class
-                                    // sensor resolves 0.1 m; the propellers' wash and gusts add
-                                    // a few decimetres in flight
-  double baro_gate_time = 10.0;     // s: a barometer altitude 5 sigma (its own and the
-                                    // estimate's) off the estimate (a gust,
-                                    // a door, a fault) is counted and left out, unless the
-                                    // barometer has been that far off for this long: a shift
-                                    // that persists is believed (the only absolute height)
-  double bias_random_walk = 0.02;   // m/sqrt(s): how fast the barometer's bias wanders (the sensor
-                                    // warming in flight, the weather: decimetres over minutes)
-  double bias_spacing = 1.0;        // s between bias states (linear in between)
-  double initial_bias_sigma = 0.3;  // m: the barometer is referenced on the ground before take-off,
-                                    // then the spinning propellers and the ground effect shift it by
-                                    // decimetres (autopilots carry a ground-effect dead zone for it)
-  double gps_wander_time = 30.0;    // s: a fix's altitude is off by the sigma the receiver
-                                    // reports, an error correlated over this time
-  double change_sigma = 0.003;      // m, one scan-matcher height change: hundreds of returns of a
-                                    // few centimetres' range noise each pin it to millimetres
-  double change_loss = 0.005;       // m: Cauchy scale; far larger disagreements count little
-  double change_gate = 0.05;        // m: a change this far from the previous accepted one (a
-                                    // velocity jump of 1.5 m/s between scans at 30 Hz) is a
-                                    // failed match, left out before it can pull the window into
-                                    // a wrong minimum of the robust loss
-  double height_walk = 0.2;         // m/sqrt(s): the height's random walk between nodes without a change
-  double gate_memory = 0.5;         // s: after this long without an accepted change, any is accepted
-  int solve_every = 3;              // nodes between solves (the newest node is propagated in between)
-  double cell_size = 1.0;           // m between the elevation map's corners
-  int min_cell_returns = 5;         // returns of one scan in a cell before it says where the ground is
-  double clearance_sigma = 0.02;    // m, the depth of one cell's ground under one scan (the median
-                                    // of its returns: each of a few centimetres' range noise, moved
-                                    // by the attitude's few tenths of a degree; relief finer than a cell)
-  double clearance_loss = 0.05;     // m: Cauchy scale; a box or a stone in a cell counts little
-  double clearance_gate = 0.15;     // m: a cell's ground this far (or 5 sigma of the height) from
-                                    // where the map puts it is a step or an edge inside the cell,
-                                    // which corners cannot follow: left out
+  double window = 3.0;                 // s of nodes kept in the problem
+  double baro_sigma = 0.3;             // m, white noise of one barometer altitude: an MS5611 class
+                                       // sensor resolves 0.1 m; the propellers' wash and gusts add
+                                       // a few decimetres in flight
+  double baro_gate_time = 10.0;        // s: a barometer altitude 5 sigma (its own and the
+                                       // estimate's) off the estimate (a gust,
+                                       // a door, a fault) is counted and left out, unless the
+                                       // barometer has been that far off for this long: a shift
+                                       // that persists is believed (the only absolute height)
+  double bias_random_walk = 0.02;      // m/sqrt(s): how fast the barometer's bias wanders (the sensor
+                                       // warming in flight, the weather: decimetres over minutes)
+  double bias_spacing = 1.0;           // s between bias states (linear in between)
+  double initial_bias_sigma = 0.3;     // m: the barometer is referenced on the ground before take-off,
+                                       // then the spinning propellers and the ground effect shift it by
+                                       // decimetres (autopilots carry a ground-effect dead zone for it)
+  double gps_wander_time = 30.0;       // s: a fix's altitude is off by the sigma the receiver
+                                       // reports, an error correlated over this time
+  double change_sigma = 0.003;         // m, one scan-matcher height change: hundreds of returns of a
+                                       // few centimetres' range noise each pin it to millimetres
+  double change_loss = 0.005;          // m: Cauchy scale; far larger disagreements count little
+  double change_gate = 0.05;           // m: a change this far from the previous accepted one (a
+                                       // velocity jump of 1.5 m/s between scans at 30 Hz) is a
+                                       // failed match, left out before it can pull the window into
+                                       // a wrong minimum of the robust loss
+  double height_walk = 0.2;            // m/sqrt(s): the height's random walk between nodes without a change
+  double gate_memory = 0.5;            // s: after this long without an accepted change, any is accepted
+  int solve_every = 3;                 // nodes between solves (the newest node is propagated in between)
+  double cell_size = 1.0;              // m between the elevation map's corners
+  int min_cell_returns = 5;            // returns of one scan in a cell before it says where the ground is
+  double clearance_sigma = 0.02;       // m, the depth of one cell's ground under one scan (the median
+                                       // of its returns: each of a few centimetres' range noise, moved
+                                       // by the attitude's few tenths of a degree; relief finer than a cell)
+  double clearance_loss = 0.05;        // m: Cauchy scale; a box or a stone in a cell counts little
+  double clearance_gate = 0.15;        // m: a cell's ground this far (or 5 sigma of the height) from
+                                       // where the map puts it is a step or an edge inside the cell,
+                                       // which corners cannot follow: left out
   double ground_gradient_sigma = 1.0;  // m per m between neighbouring corners: a weak tie that only
                                        // decides what the returns leave open
-  int max_corners = 200;            // kept in the problem (the prior is dense over them: a solve's
-                                    // cost grows with their cube; 200 at 1 m: 0.2 ha); beyond, the least recently seen
-                                    // leave with their height and sigma, and a corner seen again
-                                    // restarts from them
-  bool origin_on_ground = true;     // the ground at the map origin is at the origin's altitude
-  double origin_sigma = 0.05;       // m: how well (rough ground, where the origin was taken)
+  int max_corners = 200;               // kept in the problem (the prior is dense over them: a solve's
+                          // cost grows with their cube; 200 at 1 m: 0.2 ha); beyond, the least recently seen
+                          // leave with their height and sigma, and a corner seen again
+                          // restarts from them
+  bool origin_on_ground = true;  // the ground at the map origin is at the origin's altitude
+  double origin_sigma = 0.05;    // m: how well (rough ground, where the origin was taken)
 };
 
 class HeightFusion {
@@ -109,10 +109,10 @@ class HeightFusion {
   // Barometer altitudes more than 5 sigma from the estimate when they entered (left out
   // unless the barometer has been off for baro_gate_time).
   uint64_t barometer_outliers() const { return barometer_outliers_; }
-  double height() const;                        // of the newest node
+  double height() const;  // of the newest node
   bool has_barometer() const { return first_altitude_.has_value(); }
-  double bias() const;                          // the barometer's, at the newest node
-  size_t ground_cells() const;                  // corners of the elevation map estimated so far
+  double bias() const;                                   // the barometer's, at the newest node
+  size_t ground_cells() const;                           // corners of the elevation map estimated so far
   double height_sigma() const { return height_sigma_; }  // m, of the newest node at the last solve
   size_t nodes_in_window() const;
   uint64_t changes_rejected() const { return changes_rejected_; }
@@ -163,20 +163,20 @@ class HeightFusion {
                         Eigen::SparseMatrix<double>& H, Eigen::VectorXd& g) const;
 
   FusionSettings settings_;
-  std::map<long, double> states_;               // by state index
+  std::map<long, double> states_;  // by state index
   long next_state_ = 0;
-  Chain nodes_;                                 // heights
-  Chain biases_;                                // the barometer's
-  Chain gps_biases_;                            // the GPS altitude's
-  std::map<Cell, Corner> corners_;              // the elevation map's corners in the problem
-  std::map<Cell, KnownGround> known_ground_;    // corners marginalised, as last estimated
+  Chain nodes_;                               // heights
+  Chain biases_;                              // the barometer's
+  Chain gps_biases_;                          // the GPS altitude's
+  std::map<Cell, Corner> corners_;            // the elevation map's corners in the problem
+  std::map<Cell, KnownGround> known_ground_;  // corners marginalised, as last estimated
   bool previous_saw_ground_ = false;
   std::vector<Linear> residuals_;
   Prior prior_;
   mutable std::vector<Eigen::Triplet<double>> terms_;  // normal_equations' buffer, kept: its size
                                                        // would otherwise be mapped anew each time
-  std::vector<Sample> pending_, pending_gps_;   // newer than the newest node
-  std::optional<double> gps_sigma_;             // the newest fix's
+  std::vector<Sample> pending_, pending_gps_;          // newer than the newest node
+  std::optional<double> gps_sigma_;                    // the newest fix's
   uint64_t cells_gated_ = 0;
   std::optional<double> first_altitude_;
   uint64_t barometer_outliers_ = 0;

@@ -40,10 +40,10 @@ struct EstimatedPose {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // base_link in the map frame (ENU, m)
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
   Eigen::Vector3d position_sigma = Eigen::Vector3d::Zero();  // m
-  bool has_attitude = false, has_position = false;  // false: held from the nearest sample
-  bool match_used = false;                           // the scan matcher's height change entered
-  std::optional<double> height_change;               // m, from the match (before the fusion's gate)
-  std::optional<double> clearance;                   // m above the ground its scan saw (the median return)
+  bool has_attitude = false, has_position = false;           // false: held from the nearest sample
+  bool match_used = false;                                   // the scan matcher's height change entered
+  std::optional<double> height_change;                       // m, from the match (before the fusion's gate)
+  std::optional<double> clearance;                           // m above the ground its scan saw (the median return)
 };
 
 class PoseEstimator {
@@ -90,9 +90,9 @@ class PoseEstimator {
   Eigen::Vector3d position_sigma_ = Eigen::Vector3d::Zero();
   std::deque<Match> matches_;
   std::map<double, std::vector<Eigen::Vector3d>> scans_;  // points in the laser's frame by stamp, until
-                                                         // the match is estimated
-  double newest_scan_ = -INFINITY;      // none yet: matches do not wait for scans
-  double newest_pressure_ = -INFINITY;  // likewise for pressures
+                                                          // the match is estimated
+  double newest_scan_ = -INFINITY;                        // none yet: matches do not wait for scans
+  double newest_pressure_ = -INFINITY;                    // likewise for pressures
   double newest_input_ = -INFINITY;
   std::optional<std::pair<double, Eigen::Quaterniond>> previous_;  // stamp and attitude of the last result
 };

@@ -44,8 +44,8 @@ struct McapChannel {
 struct McapMessage {
   uint16_t channel_id = 0;
   uint32_t sequence = 0;
-  uint64_t log_time = 0;      // ns since the epoch
-  uint64_t publish_time = 0;  // ns since the epoch
+  uint64_t log_time = 0;          // ns since the epoch
+  uint64_t publish_time = 0;      // ns since the epoch
   const uint8_t* data = nullptr;  // valid during the callback that receives it
   size_t size = 0;
 };

@@ -23,7 +23,7 @@ struct RansacSettings {
 };
 
 struct Plane {
-  Eigen::Vector4d coefficients;           // a x + b y + c z + d = 0, unit normal, input frame
+  Eigen::Vector4d coefficients;  // a x + b y + c z + d = 0, unit normal, input frame
   std::vector<Eigen::Vector3f> inliers;
 };
 

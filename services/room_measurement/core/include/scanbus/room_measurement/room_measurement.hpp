@@ -21,31 +21,31 @@ struct RoomSettings {
   HistogramFilterSettings histogram;
   size_t density_reference = 18560;  // points for which histogram.min_points holds (the thesis's
                                      // scan); larger clouds scale it up; 0 keeps it absolute
-  double voxel_leaf = 0.05;        // m; 0 skips the VoxelGrid
+  double voxel_leaf = 0.05;          // m; 0 skips the VoxelGrid
   RansacSettings ransac;
-  double min_plane_share = 0.02;   // vertical planes with fewer of the filtered points are clutter
-  double min_wall_height = 1.2;    // m of height a plane's inliers must span to be a wall
-  double min_wall_coverage = 0.5;  // and the share of that height they must fill (floor and ceiling
-                                   // points left in one vertical slice span it but fill only its ends)
+  double min_plane_share = 0.02;     // vertical planes with fewer of the filtered points are clutter
+  double min_wall_height = 1.2;      // m of height a plane's inliers must span to be a wall
+  double min_wall_coverage = 0.5;    // and the share of that height they must fill (floor and ceiling
+                                     // points left in one vertical slice span it but fill only its ends)
   double max_wall_height_gap = 0.8;  // m of height with no inlier: a ceiling beam lined up with
                                      // furniture below it is two surfaces, not a wall (a wall is seen
                                      // at every height somewhere along it)
-  double min_wall_fill = 0.3;      // and of their length: RANSAC also fits planes through scattered
-                                   // clutter that happens to line up (walls hidden in part by tall
-                                   // furniture keep less than half, so not more)
-  double open_sector_deg = 10;     // degrees: a wider sector where no wall encloses the scanner is searched
-                                   // again among its own points (a far or glass wall's few returns make no
-                                   // plane of min_plane_share of the whole cloud); narrower ones hold too
-                                   // few points to tell a wall from clutter (4 let in clutter on the
-                                   // development rooms, 20 found fewer walls: docs/room_evaluation.md)
+  double min_wall_fill = 0.3;        // and of their length: RANSAC also fits planes through scattered
+                                     // clutter that happens to line up (walls hidden in part by tall
+                                     // furniture keep less than half, so not more)
+  double open_sector_deg = 10;       // degrees: a wider sector where no wall encloses the scanner is searched
+                                     // again among its own points (a far or glass wall's few returns make no
+                                     // plane of min_plane_share of the whole cloud); narrower ones hold too
+                                     // few points to tell a wall from clutter (4 let in clutter on the
+                                     // development rooms, 20 found fewer walls: docs/room_evaluation.md)
   PolygonSettings polygon;
   AdjustmentSettings adjustment;
-  double opening_min_width = 0.3;  // m: narrower gaps with returns beyond are not doors or windows
-  double opening_beyond = 0.2;     // m past the wall's line a return must lie to be seen through it
-  double recess_depth = 0.9;       // m: a surface seen through an opening nearer than this behind the
-                                   // wall is a recess, not a corridor (a hallway is at least 0.9 m wide)
-  double beam_divergence = 0.008;  // rad: LIDAR-Lite v3's beam (its spec, 8 mrad); half its footprint
-                                   // blurs where a wall's points end at a corner the scanner sees
+  double opening_min_width = 0.3;         // m: narrower gaps with returns beyond are not doors or windows
+  double opening_beyond = 0.2;            // m past the wall's line a return must lie to be seen through it
+  double recess_depth = 0.9;              // m: a surface seen through an opening nearer than this behind the
+                                          // wall is a recess, not a corridor (a hallway is at least 0.9 m wide)
+  double beam_divergence = 0.008;         // rad: LIDAR-Lite v3's beam (its spec, 8 mrad); half its footprint
+                                          // blurs where a wall's points end at a corner the scanner sees
   size_t max_horizontal_samples = 50000;  // floor and ceiling are found on a subsample
 };
 
@@ -58,9 +58,9 @@ const char* status_name(RoomStatus status);
 
 struct MeasuredWall {
   WallLine line;
-  size_t points = 0;        // inliers of the final fit
-  double length = 0;        // m, corner to corner
-  double length_sigma = 0;  // m, one sigma (the wall adjustment's, else the offsets' standard errors)
+  size_t points = 0;              // inliers of the final fit
+  double length = 0;              // m, corner to corner
+  double length_sigma = 0;        // m, one sigma (the wall adjustment's, else the offsets' standard errors)
   std::vector<Opening> openings;  // doors and windows seen through, along the wall from corners[i]
   bool inferred() const { return line.inferred; }  // not seen (walls.hpp, infer_hidden_wall)
 };
@@ -68,15 +68,15 @@ struct MeasuredWall {
 struct RoomResult {
   RoomStatus status = RoomStatus::Ok;
   std::string message;
-  std::vector<MeasuredWall> walls;        // in order around the room
-  std::vector<WallLine> candidates;       // every wall-like plane found, for diagnosis when no room closes
-  std::vector<Eigen::Vector2d> corners;   // corners[i] joins walls[i-1] and walls[i]
-  std::vector<bool> corner_inferred;      // per corner: placed by assumption, not seen (an inferred wall's far end)
-  std::vector<double> corner_sigmas;      // m per corner: one sigma of its distance from the true corner
-                                          // (the wall adjustment's; empty without it)
+  std::vector<MeasuredWall> walls;       // in order around the room
+  std::vector<WallLine> candidates;      // every wall-like plane found, for diagnosis when no room closes
+  std::vector<Eigen::Vector2d> corners;  // corners[i] joins walls[i-1] and walls[i]
+  std::vector<bool> corner_inferred;     // per corner: placed by assumption, not seen (an inferred wall's far end)
+  std::vector<double> corner_sigmas;     // m per corner: one sigma of its distance from the true corner
+                                         // (the wall adjustment's; empty without it)
   double area = 0, perimeter = 0;
-  double area_sigma = 0;  // m^2, one sigma
-  double range_bias = 0, lever_arm = 0;  // m: the device's errors the wall adjustment estimated
+  double area_sigma = 0;                     // m^2, one sigma
+  double range_bias = 0, lever_arm = 0;      // m: the device's errors the wall adjustment estimated
   std::optional<double> floor_z, ceiling_z;  // only where seen
   std::string height_note;                   // why there is no ceiling height, when there is none
   size_t points_in = 0, points_valid = 0, points_after_filter = 0, points_after_voxel = 0;

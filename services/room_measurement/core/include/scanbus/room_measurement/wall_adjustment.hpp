@@ -27,11 +27,11 @@ namespace scanbus::room_measurement {
 
 struct AdjustmentSettings {
   bool enabled = true;
-  bool estimate_device = true;         // estimate the device terms (off: hold them at zero, their priors
-                                       // added to the sigmas; docs/room_evaluation.md compares the two)
-  double band = 0.05;                  // m: a wall's points used, either side of its refined line; wider
-                                       // takes in skirting, frames and furniture near the wall
-  double pitch_bin_deg = 1.0;          // the bootstrap's unit: rays within a bin share a servo step's error
+  bool estimate_device = true;  // estimate the device terms (off: hold them at zero, their priors
+                                // added to the sigmas; docs/room_evaluation.md compares the two)
+  double band = 0.05;           // m: a wall's points used, either side of its refined line; wider
+                                // takes in skirting, frames and furniture near the wall
+  double pitch_bin_deg = 1.0;   // the bootstrap's unit: rays within a bin share a servo step's error
   // The device's errors, one sigma (priors when estimated; added to the sigmas when not):
   double range_bias_prior = 0.01;      // m: a LIDAR-Lite v3 offset-calibrated at one distance, to its 1 cm resolution
   double lever_arm_prior = 0.02;       // m: the optical centre's height over the pitch axis, uncalibrated
@@ -47,8 +47,8 @@ struct AdjustedWalls {
   std::vector<double> offsets;
   std::vector<Eigen::Vector2d> corners;  // corners[i] joins walls[i-1] and walls[i]
   std::vector<double> lengths, length_sigmas;
-  std::vector<double> corner_sigmas;     // m: one sigma of each corner's distance from where it is
-                                         // (the root of its covariance's trace)
+  std::vector<double> corner_sigmas;  // m: one sigma of each corner's distance from where it is
+                                      // (the root of its covariance's trace)
   double area = 0, area_sigma = 0;
   double range_bias = 0, lever_arm = 0;  // m: the corrections estimated (added to the range; along "up")
   double pitch_offset = 0;               // rad, added to the reported pitch

@@ -15,11 +15,11 @@ namespace scanbus::room_measurement {
 // histogram filter drops short columns such as the wall above a door), and at which heights;
 // and where returns beyond it cross its line (it is seen through there: a gap, an opening).
 struct WallProfile {
-  double origin = 0;        // along-position of slot 0, m
-  double slot = 0.05;       // m
-  double base = 0, cell = 0.05;  // m: heights in 64 cells from base
-  std::vector<uint64_t> cells;   // per slot, a bit for each height cell holding a point
-  std::vector<uint64_t> through; // per slot, a bit for each height cell a return beyond crosses
+  double origin = 0;              // along-position of slot 0, m
+  double slot = 0.05;             // m
+  double base = 0, cell = 0.05;   // m: heights in 64 cells from base
+  std::vector<uint64_t> cells;    // per slot, a bit for each height cell holding a point
+  std::vector<uint64_t> through;  // per slot, a bit for each height cell a return beyond crosses
 
   // Whether a slot within `reach` of an along-position holds a point (between z_low and z_high).
   bool has_points(double along, double reach, double z_low = -1e9, double z_high = 1e9) const;
@@ -35,13 +35,13 @@ struct WallLine {
   double offset_sigma = 0;    // m, standard error of the offset
   double start = 0, end = 0;  // extent of the inliers along the wall, m, along (-n.y, n.x)
   double z_low = 0, z_high = 0;
-  double z_coverage = 0;      // share of 10 cm height slices between z_low and z_high holding inliers
-  double length_coverage = 0; // share of 10 cm slots between start and end holding inliers
-  double z_gap = 0;           // m: the widest band of heights between z_low and z_high with no inlier
+  double z_coverage = 0;       // share of 10 cm height slices between z_low and z_high holding inliers
+  double length_coverage = 0;  // share of 10 cm slots between start and end holding inliers
+  double z_gap = 0;            // m: the widest band of heights between z_low and z_high with no inlier
   std::vector<Eigen::Vector3f> inliers;
   WallProfile profile;
-  bool inferred = false;      // not seen: placed between two parallel walls the scanner saw (infer_hidden_wall)
-  double seen_over = 0;       // share of its middle where returns pass its line above its top (seen_over_share)
+  bool inferred = false;  // not seen: placed between two parallel walls the scanner saw (infer_hidden_wall)
+  double seen_over = 0;   // share of its middle where returns pass its line above its top (seen_over_share)
 
   Eigen::Vector2d direction() const { return {-normal.y(), normal.x()}; }
   // Where the ray from the scanner (the origin) through `point` meets the wall's plane: range
@@ -78,8 +78,8 @@ double seen_over_share(const WallLine& wall, const std::vector<Eigen::Vector3f>&
                        double z_from);
 
 struct Polygon {
-  std::vector<size_t> walls;               // indices into the candidates, in order around the room
-  std::vector<Eigen::Vector2d> corners;    // corners[i] joins walls[i-1] and walls[i]
+  std::vector<size_t> walls;             // indices into the candidates, in order around the room
+  std::vector<Eigen::Vector2d> corners;  // corners[i] joins walls[i-1] and walls[i]
 };
 
 // The wall the scanner cannot see between two parallel walls that face it one behind the
@@ -101,8 +101,8 @@ bool hides_a_wall(const WallLine& before, const WallLine& after, double angle, d
 struct WallEnd {
   double along = 0, spacing = 0;  // m
 };
-WallEnd wall_end(const WallLine& wall, double near, bool at_end, const std::vector<Eigen::Vector3f>& points, double band,
-                 double max_gap);
+WallEnd wall_end(const WallLine& wall, double near, bool at_end, const std::vector<Eigen::Vector3f>& points,
+                 double band, double max_gap);
 
 struct PolygonSettings {
   double min_wall_angle_deg = 30;  // neighbours closer to parallel than this cannot meet in a corner
@@ -151,8 +151,8 @@ struct Sector {
 // The sectors wider than `min_width_deg` where no wall encloses the scanner (as room_polygon
 // sees the walls): an open side, or a wall whose few returns (far, glass) made no plane of the
 // whole cloud's size.
-std::vector<Sector> open_sectors(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
-                                 double min_width_deg);
+std::vector<Sector> open_sectors(const std::vector<WallLine>& walls, const ViewLimits& view,
+                                 const PolygonSettings& settings, double min_width_deg);
 
 // The room's walls in order: turning once around the scanner (the origin), the room's wall in
 // each direction is the nearest wall the ray meets where the wall has points (the wall above a
@@ -167,7 +167,8 @@ std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimi
 // points lie beyond the wall's line (by `beyond`) than on it, with how deep what is seen
 // through them lies.
 std::vector<Opening> find_openings(const WallLine& wall, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
-                                   const std::vector<Eigen::Vector3f>& points, double band, double beyond, double min_width);
+                                   const std::vector<Eigen::Vector3f>& points, double band, double beyond,
+                                   double min_width);
 
 double polygon_area(const std::vector<Eigen::Vector2d>& corners);
 

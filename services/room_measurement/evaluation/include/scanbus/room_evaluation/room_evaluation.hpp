@@ -43,21 +43,21 @@ struct RoomCase {
   sim::RoomCategory category = sim::RoomCategory::Box;
   unsigned seed = 0;
   size_t true_walls = 0;
-  bool measurable = false;    // every wall seen (sim::wall_visibility)
-  std::string unseen;         // which walls are not, when not measurable
+  bool measurable = false;  // every wall seen (sim::wall_visibility)
+  std::string unseen;       // which walls are not, when not measurable
   room_measurement::RoomStatus status = room_measurement::RoomStatus::Ok;
   std::string message;
   Verdict verdict = Verdict::Refused;
-  std::vector<WallCheck> walls;  // matched walls, when measured
+  std::vector<WallCheck> walls;                      // matched walls, when measured
   std::vector<double> corner_errors, corner_sigmas;  // m: each corner's distance from the true one, its sigma
-  std::vector<OpeningCheck> openings;  // the matched walls' true openings
-  size_t spurious_openings = 0;        // measured openings over no true one
+  std::vector<OpeningCheck> openings;                // the matched walls' true openings
+  size_t spurious_openings = 0;                      // measured openings over no true one
   double true_area = 0, area = 0, area_sigma = 0;
   std::optional<double> true_ceiling_height, ceiling_height;
   size_t points = 0;
   double elapsed_ms = 0;
-  std::vector<Eigen::Vector3f> cloud;       // the scan, when SweepOptions::keep_clouds
-  room_measurement::RoomResult measurement; // the whole result, for its plan
+  std::vector<Eigen::Vector3f> cloud;        // the scan, when SweepOptions::keep_clouds
+  room_measurement::RoomResult measurement;  // the whole result, for its plan
 
   double max_wall_error() const;  // m, absolute; 0 without matched walls
 };
@@ -67,9 +67,9 @@ RoomCase evaluate_room(const sim::GeneratedRoom& room, const room_measurement::R
                        bool keep_cloud = false);
 
 struct SweepOptions {
-  int count = 120;        // rooms, spread evenly over the categories
+  int count = 120;  // rooms, spread evenly over the categories
   unsigned first_seed = 1;
-  int threads = 0;        // 0: one per core
+  int threads = 0;            // 0: one per core
   bool keep_clouds = false;   // keep each room's scan in its RoomCase (to write it out)
   bool ideal_device = false;  // scan with the device the thesis's equations assume (2 cm noise, no
                               // imperfections): tells the room's geometry from the device's errors
@@ -83,18 +83,18 @@ struct SweepSummary {
   std::string category;  // "all" for the whole sweep
   size_t rooms = 0, measurable = 0;
   size_t measured = 0, inferred = 0, wrong = 0, refused = 0, refused_wrongly = 0;
-  size_t within_target = 0;   // measured (every wall seen) with every wall within 1 cm and the area within 0.5 %
-  size_t ok_over_2cm = 0;     // status ok with a wall more than 2 cm wrong (or wrong walls)
-  size_t walls = 0;           // matched walls of measured and inferred rooms
+  size_t within_target = 0;  // measured (every wall seen) with every wall within 1 cm and the area within 0.5 %
+  size_t ok_over_2cm = 0;    // status ok with a wall more than 2 cm wrong (or wrong walls)
+  size_t walls = 0;          // matched walls of measured and inferred rooms
   double max_wall_error = 0, p95_wall_error = 0, median_wall_error = 0;  // m, absolute
-  double max_area_error = 0, p95_area_error = 0;                          // relative
-  double within_1_sigma = 0, within_2_sigma = 0;  // shares of matched walls
-  size_t corners = 0;                           // of measured and inferred rooms
-  double median_corner_error = 0, max_corner_error = 0;  // m
+  double max_area_error = 0, p95_area_error = 0;                         // relative
+  double within_1_sigma = 0, within_2_sigma = 0;                         // shares of matched walls
+  size_t corners = 0;                                                    // of measured and inferred rooms
+  double median_corner_error = 0, max_corner_error = 0;                  // m
   double corners_within_1_sigma = 0, corners_within_2_sigma = 0;
   size_t true_openings = 0, openings_found = 0, spurious_openings = 0;  // on matched walls
-  double median_opening_error = 0, max_opening_error = 0;  // m: the found openings' worse end
-  std::optional<double> worst_ceiling_error;      // m, over rooms that report a ceiling height
+  double median_opening_error = 0, max_opening_error = 0;               // m: the found openings' worse end
+  std::optional<double> worst_ceiling_error;                            // m, over rooms that report a ceiling height
 };
 
 // Per category (in room_categories() order), then "all".

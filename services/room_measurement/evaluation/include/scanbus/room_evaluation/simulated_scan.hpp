@@ -13,8 +13,8 @@
 namespace scanbus::room_evaluation {
 
 struct SimulatedScanSettings {
-  int resolution = 0;     // Table 4.2 setting
-  int cycles = 3;         // interleaved scans (eq. 4.9); the thesis's clouds have ~18,500 points
+  int resolution = 0;              // Table 4.2 setting
+  int cycles = 3;                  // interleaved scans (eq. 4.9); the thesis's clouds have ~18,500 points
   sim::HardwareSettings hardware;  // the device: noise, dropouts, imperfections, seed
 };
 

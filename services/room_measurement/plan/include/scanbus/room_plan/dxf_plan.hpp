@@ -1,7 +1,7 @@
 // The measured room as a DXF drawing a builder opens in a CAD program: walls corner to
 // corner with their openings left open, each opening's width, a dimension outside each wall
-// (extension lines, dimension line, its length and one-sigma uncertainty), the area. Drawing units are metres, the scanner
-// frame's x-y (scanner at the origin). Written with dxflib.
+// (extension lines, dimension line, its length and one-sigma uncertainty), the area. Drawing units are metres, the
+// scanner frame's x-y (scanner at the origin). Written with dxflib.
 #pragma once
 
 #include <stdexcept>

@@ -15,9 +15,9 @@ class DeviceWatchdog {
   DeviceWatchdog(double timeout, double min_backoff, double max_backoff);
 
   // `now` in s on a steady clock.
-  void line(double now);                  // the device said something
-  void expect(bool due, double now);      // whether lines are due now (scanning, a command sent)
-  bool stalled(double now) const;         // due, and silent for longer than allowed
+  void line(double now);              // the device said something
+  void expect(bool due, double now);  // whether lines are due now (scanning, a command sent)
+  bool stalled(double now) const;     // due, and silent for longer than allowed
   // The session was reset: the s to wait before opening it again.
   double reset();
 

@@ -15,13 +15,13 @@ namespace scanbus::scanner_io {
 struct ScanCounters {
   uint64_t lines = 0;
   uint64_t measurements = 0;
-  uint64_t lost_lines = 0;       // sequence numbers that never arrived intact
+  uint64_t lost_lines = 0;  // sequence numbers that never arrived intact
   uint64_t checksum_errors = 0;
   uint64_t malformed_lines = 0;
-  uint64_t out_of_range = 0;     // measurements outside the range gate (kept in SphericalScan, not in clouds)
+  uint64_t out_of_range = 0;  // measurements outside the range gate (kept in SphericalScan, not in clouds)
   uint64_t revolutions = 0;
   uint64_t scans = 0;
-  uint64_t aborted_scans = 0;    // device reset or lost mid-scan, or joined mid-scan
+  uint64_t aborted_scans = 0;  // device reset or lost mid-scan, or joined mid-scan
 };
 
 struct Revolution {
@@ -33,8 +33,8 @@ struct Revolution {
 };
 
 struct ScanOutput {
-  std::optional<Revolution> revolution;          // a revolution completed
-  std::optional<std::vector<CloudPoint>> scan;   // a whole scan completed
+  std::optional<Revolution> revolution;         // a revolution completed
+  std::optional<std::vector<CloudPoint>> scan;  // a whole scan completed
 };
 
 class ScanAssembler {

@@ -10,11 +10,11 @@
 namespace scanbus::scanner_io {
 
 struct SphericalMeasurement {
-  double stamp = 0;    // s
-  uint32_t line = 0;   // device sequence number
-  double yaw = 0;      // rad
-  double pitch = 0;    // rad from the z axis
-  double range = 0;    // m; 0 is the sensor's "no return"
+  double stamp = 0;   // s
+  uint32_t line = 0;  // device sequence number
+  double yaw = 0;     // rad
+  double pitch = 0;   // rad from the z axis
+  double range = 0;   // m; 0 is the sensor's "no return"
   double signal = 0;
 };
 
