@@ -39,6 +39,7 @@ class ScannerObserver {
         health_(participant_, topics::kHealth, [this](const auto& health, const auto&) {
           if (health.service() != "scanner_io") return;
           locked([&] {
+            health_states.push_back(health.state());
             for (const auto& counter : health.counters()) counters[counter.name()] = counter.value();
           });
         }) {}
@@ -64,6 +65,7 @@ class ScannerObserver {
   std::vector<std::vector<CloudPoint>> scans;
   std::vector<scanbus::msg::ScannerStatus> statuses;
   std::map<std::string, uint64_t> counters;
+  std::vector<uint8_t> health_states;  // scanner_io's, in order
 
  private:
   template <class F>
@@ -228,6 +230,21 @@ TEST_F(ScannerPipeline, TakesUpAReplugAtOnceWhateverTheBackOff) {
   ASSERT_TRUE(observer_->wait_until(connected, 10s)) << log("scanner_io.log");
   const double after = std::chrono::duration<double>(std::chrono::steady_clock::now() - plugged).count();
   EXPECT_LT(after, 1.5) << "connected " << after << " s after the device appeared\n" << log("scanner_io.log");
+  // DEGRADED while the device was missing, OK again once a whole scan came from it (a
+  // container whose device appeared late turned healthy only after a restart before).
+  const auto degraded = [&] {
+    const auto& s = observer_->health_states;
+    return std::find(s.begin(), s.end(), scanbus::msg::Health_Constants::DEGRADED) != s.end();
+  };
+  EXPECT_TRUE(observer_->wait_until(degraded, 1s)) << "no DEGRADED while the device was missing";
+  EXPECT_TRUE(observer_->wait_until(
+      [&] {
+        return !observer_->scans.empty() && !observer_->health_states.empty() &&
+               observer_->health_states.back() == scanbus::msg::Health_Constants::OK;
+      },
+      90s))
+      << "not OK again after a whole scan\n"
+      << log("scanner_io.log");
 }
 
 TEST_F(ScannerPipeline, DamagedStreamIsCountedNeverFatal) {

@@ -103,6 +103,15 @@ void HealthReporter::error(const std::string& message) {
   publish_now();
 }
 
+void HealthReporter::recovered() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (state_ != scanbus::msg::Health_Constants::DEGRADED) return;
+    state_ = scanbus::msg::Health_Constants::OK;
+  }
+  publish_now();
+}
+
 void HealthReporter::watch_losses(const Participant& participant) {
   std::lock_guard<std::mutex> lock(mutex_);
   watched_.push_back(&participant);

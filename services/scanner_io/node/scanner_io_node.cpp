@@ -185,6 +185,7 @@ class ScannerIo : public Service {
     if (output.scan) {
       scan_cloud_.write(to_point_cloud2(*output.scan, settings_.frame_id, now_stamp()));
       log_->info("scan complete: {} points", output.scan->size());
+      health_.recovered();  // a whole scan: the device (missing, unplugged, stalled) works again
     }
     send_to_device();
     update_counters();

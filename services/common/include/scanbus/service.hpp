@@ -50,6 +50,8 @@ class HealthReporter {
   void set_state(uint8_t state);
   // Records the error, marks the service DEGRADED and publishes at once.
   void error(const std::string& message);
+  // Back from DEGRADED to OK once the service has shown its fault is over (last_error keeps it).
+  void recovered();
   void publish_now();
   // Also counts the losses of another participant's readers (the recorder's own) until
   // unwatch_losses(); the reporter's participant is always counted.
