@@ -46,6 +46,11 @@ double distance_to_box(const Box& box, const Eigen::Vector2d& p) {
   return outside.norm();
 }
 
+// A room whose furniture leaves no spot for the scanner's tripod: drawn again.
+struct NoScannerSpot : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 // A spot for the scanner inside the room, clear of walls and furniture by the margins.
 void place_scanner(RoomModel& room, Draw& draw, double wall_margin, double box_margin = 0.3) {
   Eigen::Vector2d low = room.corners.front(), high = low;
@@ -59,7 +64,7 @@ void place_scanner(RoomModel& room, Draw& draw, double wall_margin, double box_m
     room.scanner = Eigen::Vector3d(p.x(), p.y(), draw.uniform(0.9, 1.5));
     return;
   }
-  throw std::runtime_error("no spot for the scanner in room '" + room.name + "'");
+  throw NoScannerSpot("no spot for the scanner among the furniture");
 }
 
 // Low furniture (beds, sofas, tables) standing free or against a wall of a w x d rectangle.
@@ -314,7 +319,15 @@ GeneratedRoom generate_room(RoomCategory category, unsigned seed) {
   GeneratedRoom generated;
   generated.category = category;
   generated.seed = seed;
-  generated.room = make_room(category, draw);
+  constexpr int kAttempts = 100;
+  for (int attempt = 1;; ++attempt) {
+    try {
+      generated.room = make_room(category, draw);
+      break;
+    } catch (const NoScannerSpot&) {
+      if (attempt == kAttempts) throw;  // the stream goes on: the next room is another
+    }
+  }
   generated.hardware = draw_hardware(draw.random);
   return generated;
 }

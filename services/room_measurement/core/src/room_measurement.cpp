@@ -256,16 +256,41 @@ bool faces_scanner(const WallLine& wall) {
   return !sines.empty() && sines[sines.size() / 2] >= std::sin(kGrazing);
 }
 
+// The side joining each step between parallel walls (step_gaps), looked for among the gap's
+// own points: of the planes there that face the scanner and join the step, the one with the
+// most inliers (the rest are the gap's edges lined up with clutter).
+std::vector<WallLine> step_sides(const std::vector<WallLine>& candidates, const std::vector<Eigen::Vector3f>& points,
+                                 const RoomSettings& settings, const std::vector<Eigen::Vector3f>& valid,
+                                 const ViewLimits& view, const RoomResult& result) {
+  constexpr double kMargin = 2;   // degrees either side of the gap: the side's ends
+  constexpr double kReach = 0.3;  // m: the side meets the step's walls this near where the turn leaves them
+  std::vector<WallLine> sides;
+  for (const Step& step : step_gaps(candidates, view, settings.polygon, kMargin)) {
+    std::optional<WallLine> best;
+    for (WallLine& wall : wall_candidates(in_sector(points, step.sector, result), settings, valid, view))
+      if (faces_scanner(wall) && joins_step(wall, candidates, step, kReach) &&
+          (!best || wall.inliers.size() > best->inliers.size()))
+        best = std::move(wall);
+    if (best) sides.push_back(std::move(*best));
+  }
+  return sides;
+}
+
 // The final fit of a room wall: every valid point on it (points_on_wall), fitted again, twice.
 // RANSAC's inliers are voxel centres cut off at its distance threshold; the histogram filter's
 // points are no better: a point that range noise carried behind the wall lands in a sparse
 // bin the filter drops, so its survivors sit in front (rooms came out 1-2 cm small).
 WallLine refine_wall(const WallLine& wall, const std::vector<Eigen::Vector3f>& points, double band) {
+  // A refit turned further than this from RANSAC's plane is not the same wall: rays that graze
+  // a short wall (a step's side seen nearly edge on) meet its line anywhere, and the points
+  // chosen by where they meet it scatter. RANSAC's fit of the voxel cloud stands then.
+  const double max_turn = std::cos(5 * M_PI / 180);
   WallLine fitted = wall;
   for (int round = 0; round < 2; ++round) {
     std::vector<Eigen::Vector3f> near = points_on_wall(fitted, points, band);
     if (near.size() < 10) break;
     const WallLine refit = fit_wall(std::move(near));
+    if (std::abs(refit.normal.dot(wall.normal)) < max_turn) break;
     fitted.normal = refit.normal;
     fitted.offset = refit.offset;
     fitted.rms = refit.rms;
@@ -306,6 +331,54 @@ void place_hidden_walls(const std::vector<Eigen::Vector3f>& points, const RoomSe
     result.walls[i].line = hidden;
     result.corner_inferred[before_nearer ? (i + 1) % count : i] = true;
   }
+}
+
+// Whether a final wall has points on its line well past its corner with `neighbour` (beyond
+// the scatter the corner leaves, off the neighbour's line: at a shallow corner that runs close
+// to this one's): it goes on behind the neighbour's end (the wall behind a chimney breast's
+// hidden side, seen just past where the breast's front meets its line), so the corner is not
+// one. room_polygon checked the candidates only farther past, their corners being known to a
+// few centimetres. Heights over furniture (a desk may stand on past a pillar's corner).
+bool runs_past_corner(const std::vector<Eigen::Vector3f>& points, const WallLine& wall, const WallLine& neighbour,
+                      const Eigen::Vector2d& corner, int direction) {
+  constexpr double kBand = 0.04, kFrom = 0.1, kTo = 0.4;  // m: band about the lines, stretch past the corner
+  constexpr double kFurniture = 1.1, kCeiling = 0.2;      // m over its lowest, under its highest points
+  constexpr size_t kMinPoints = 10;
+  if (wall.inferred) return false;
+  const double at = wall.direction().dot(corner);
+  size_t past = 0;
+  for (const auto& p : points) {
+    const Eigen::Vector2d xy = p.head<2>().cast<double>();
+    if (std::abs(wall.normal.dot(xy) - wall.offset) > kBand || p.z() < wall.z_low + kFurniture ||
+        p.z() > wall.z_high - kCeiling || std::abs(neighbour.normal.dot(xy) - neighbour.offset) <= kBand)
+      continue;
+    const double beyond = direction * (wall.direction().dot(xy) - at);
+    past += beyond > kFrom && beyond < kTo;
+  }
+  return past >= kMinPoints;
+}
+
+bool refuse_hidden_corner(const std::vector<Eigen::Vector3f>& points, RoomResult& result) {
+  const size_t count = result.walls.size();
+  for (size_t i = 0; i < count; ++i) {
+    const size_t before = (i + count - 1) % count;
+    const WallLine& a = result.walls[before].line;
+    const WallLine& b = result.walls[i].line;
+    const bool before_runs = runs_past_corner(points, a, b, result.corners[i], +1);
+    if (!before_runs && !runs_past_corner(points, b, a, result.corners[i], -1)) continue;
+    const size_t runs = before_runs ? before : i, other = before_runs ? i : before;
+    result.status = RoomStatus::WallsDoNotClose;
+    result.message = "wall " + std::to_string(runs + 1) + " runs on past its corner with wall " +
+                     std::to_string(other + 1) + ": a wall between them is not seen, the walls do not close a room";
+    result.walls.clear();
+    result.corners.clear();
+    result.corner_inferred.clear();
+    result.corner_sigmas.clear();
+    result.area = result.area_sigma = 0;
+    drop_unchecked_heights(result);
+    return true;
+  }
+  return false;
 }
 
 // A surface seen through an opening shallower than `recess_depth` behind it is the back of a
@@ -384,6 +457,9 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
   for (const Sector& sector : open_sectors(candidates, view, settings.polygon, settings.open_sector_deg))
     for (WallLine& wall : wall_candidates(in_sector(walls_only, sector, result), settings, valid, view))
       if (faces_scanner(wall)) sector_walls.push_back(std::move(wall));
+  // So may the short side of a step between parallel walls.
+  for (WallLine& side : step_sides(candidates, walls_only, settings, valid, view, result))
+    sector_walls.push_back(std::move(side));
   if (!sector_walls.empty()) {
     candidates.insert(candidates.end(), sector_walls.begin(), sector_walls.end());
     candidates = merge_collinear(std::move(candidates), 3 * M_PI / 180, settings.ransac.distance / 2,
@@ -425,6 +501,7 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
     measure_lengths(result.walls);
     result.area = polygon_area(result.corners);
   }
+  if (refuse_hidden_corner(valid, result)) return result;
   check_floor_and_ceiling(horizontals, result);
   for (size_t i = 0; i < count; ++i)
     if (!result.walls[i].inferred())  // a wall turned away from the scanner: nothing is seen through it

@@ -96,7 +96,7 @@ bool reaches_top(const WallLine& wall, const ViewLimits& view, const PolygonSett
 double along_at(const WallLine& wall, double angle) { return wall.along_on_ray({std::cos(angle), std::sin(angle)}); }
 
 void drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
-                    std::vector<SeenWall>& order) {
+                    std::vector<SeenWall>& order, bool keep_through_gaps) {
   const double min_sine = std::sin(settings.min_wall_angle_deg * M_PI / 180);
   bool changed = true;
   while (changed && order.size() >= 3) {
@@ -113,7 +113,7 @@ void drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, 
       const size_t after = (i + 2) % order.size();
       const double gap =
           std::abs(along_at(a, order[after].first) - along_at(a, order[i].last)) + 2 * settings.support_reach;
-      if (order.size() >= 4 && order[i].wall == order[after].wall && b.offset > a.offset &&
+      if (!keep_through_gaps && order.size() >= 4 && order[i].wall == order[after].wall && b.offset > a.offset &&
           gap <= settings.max_door_width) {
         order.erase(order.begin() + static_cast<long>(next));
         changed = true;
@@ -479,8 +479,12 @@ std::vector<Sector> open_sectors(const std::vector<WallLine>& walls, const ViewL
   return sectors;
 }
 
-std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimits& view,
-                                    const PolygonSettings& settings, std::string& why) {
+namespace {
+
+// The walls around the scanner in the order the turn meets them (enclosing_runs), occluders dropped.
+std::optional<std::vector<SeenWall>> walls_around(const std::vector<WallLine>& walls, const ViewLimits& view,
+                                                  const PolygonSettings& settings, std::string& why,
+                                                  bool keep_through_gaps = false) {
   // Short runs are clutter.
   const std::vector<Run> runs = enclosing_runs(walls, view, settings);
   const int min_steps = static_cast<int>(settings.min_run_deg / 360.0 * kSteps);
@@ -507,10 +511,19 @@ std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimi
     order.front().first = order.back().first - 2 * M_PI;
     order.pop_back();
   }
-  drop_occluders(walls, view, settings, order);
-  insert_hidden_walls(walls, settings, order);
+  drop_occluders(walls, view, settings, order, keep_through_gaps);
+  return order;
+}
+
+}  // namespace
+
+std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimits& view,
+                                    const PolygonSettings& settings, std::string& why) {
+  std::optional<std::vector<SeenWall>> order = walls_around(walls, view, settings, why);
+  if (!order) return std::nullopt;
+  insert_hidden_walls(walls, settings, *order);
   Polygon polygon;
-  for (const auto& seen_wall : order) polygon.walls.push_back(seen_wall.wall);
+  for (const auto& seen_wall : *order) polygon.walls.push_back(seen_wall.wall);
   if (polygon.walls.size() < 3) {
     why = "only " + std::to_string(polygon.walls.size()) + " walls around the scanner: not a room";
     return std::nullopt;
@@ -560,6 +573,47 @@ std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimi
       }
     }
   return polygon;
+}
+
+std::vector<Step> step_gaps(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
+                            double margin_deg) {
+  std::string why;
+  // A wall seen through a gap as narrow as a door stays: it may be an alcove's back.
+  const std::optional<std::vector<SeenWall>> order = walls_around(walls, view, settings, why, true);
+  if (!order || order->size() < 2) return {};
+  const double parallel = settings.min_wall_angle_deg * M_PI / 180;  // closer, no corner joins them
+  const double margin = margin_deg * M_PI / 180;
+  std::vector<Step> steps;
+  for (size_t i = 0; i < order->size(); ++i) {
+    const SeenWall& before = (*order)[i];
+    const SeenWall& after = (*order)[(i + 1) % order->size()];
+    const double enter = after.first < before.last ? after.first + 2 * M_PI : after.first;
+    const WallLine& a = walls[before.wall];
+    const WallLine& b = walls[after.wall];
+    if (!hides_a_wall(a, b, parallel, settings.min_hidden_wall) || enter - before.last < margin) continue;
+    // Only into a recess (the farther wall's other neighbour nearer and parallel too): a
+    // protrusion's found side would let its front meet the next wall where a hidden side and a
+    // stretch of wall behind it may lie (measure_room cannot always tell; chimney breasts keep
+    // to the hidden-wall inference).
+    const bool into = a.offset < b.offset;
+    const WallLine& back = into ? b : a;
+    const size_t other = into ? (i + 2) % order->size() : (i + order->size() - 1) % order->size();
+    const WallLine& beyond = walls[(*order)[other].wall];
+    if (!hides_a_wall(back, beyond, parallel, settings.min_hidden_wall) || beyond.offset > back.offset) continue;
+    steps.push_back({{before.last - margin, enter + margin}, before.wall, after.wall, before.last, enter});
+  }
+  return steps;
+}
+
+bool joins_step(const WallLine& side, const std::vector<WallLine>& walls, const Step& step, double reach) {
+  const auto meets_at_edge = [&](const WallLine& wall, double edge) {
+    if (std::abs(cross(side.normal, wall.normal)) < 1e-3) return false;
+    const Eigen::Vector2d corner = intersect_lines(side.normal, side.offset, wall.normal, wall.offset);
+    const double on_side = side.direction().dot(corner);
+    return std::min(std::abs(on_side - side.start), std::abs(on_side - side.end)) <= reach &&
+           std::abs(wall.direction().dot(corner) - along_at(wall, edge)) <= reach;
+  };
+  return meets_at_edge(walls[step.before], step.leave) && meets_at_edge(walls[step.after], step.enter);
 }
 
 std::vector<Opening> find_openings(const WallLine& wall, const Eigen::Vector2d& a, const Eigen::Vector2d& b,

@@ -154,6 +154,23 @@ struct Sector {
 std::vector<Sector> open_sectors(const std::vector<WallLine>& walls, const ViewLimits& view,
                                  const PolygonSettings& settings, double min_width_deg);
 
+// A gap in the turn between two parallel walls one behind the other (an alcove's or a chimney
+// breast's back and the wall it steps from), as room_polygon orders the walls: the side that
+// joins them faces the scanner there but, short and seen obliquely, made no plane of the whole
+// cloud's size. `sector` is the gap widened by `margin_deg` either side, to hold the side's ends.
+struct Step {
+  Sector sector;
+  size_t before = 0, after = 0;  // the parallel walls, indices into the walls
+  double leave = 0, enter = 0;   // rad: the turn's last ray on `before` and first on `after`
+};
+std::vector<Step> step_gaps(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
+                            double margin_deg);
+
+// Whether `side` joins the step: it meets each of the step's walls within `reach` of one of its
+// own ends and of where the turn leaves or meets that wall (the corners bound the gap). A
+// wardrobe's face in a corner meets them elsewhere.
+bool joins_step(const WallLine& side, const std::vector<WallLine>& walls, const Step& step, double reach);
+
 // The room's walls in order: turning once around the scanner (the origin), the room's wall in
 // each direction is the nearest wall the ray meets where the wall has points (the wall above a
 // door counts: what is seen through the door is outside) and that reaches the top of what the
