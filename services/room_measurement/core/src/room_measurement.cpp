@@ -333,6 +333,18 @@ void place_hidden_walls(const std::vector<Eigen::Vector3f>& points, const RoomSe
   }
 }
 
+// An outline measured and then found not to close: no walls, corners or area, and why.
+void refuse_outline(std::string why, RoomResult& result) {
+  result.status = RoomStatus::WallsDoNotClose;
+  result.message = std::move(why);
+  result.walls.clear();
+  result.corners.clear();
+  result.corner_inferred.clear();
+  result.corner_sigmas.clear();
+  result.area = result.area_sigma = 0;
+  drop_unchecked_heights(result);
+}
+
 // Whether a final wall has points on its line well past its corner with `neighbour` (beyond
 // the scatter the corner leaves, off the neighbour's line: at a shallow corner that runs close
 // to this one's): it goes on behind the neighbour's end (the wall behind a chimney breast's
@@ -367,15 +379,9 @@ bool refuse_hidden_corner(const std::vector<Eigen::Vector3f>& points, RoomResult
     const bool before_runs = runs_past_corner(points, a, b, result.corners[i], +1);
     if (!before_runs && !runs_past_corner(points, b, a, result.corners[i], -1)) continue;
     const size_t runs = before_runs ? before : i, other = before_runs ? i : before;
-    result.status = RoomStatus::WallsDoNotClose;
-    result.message = "wall " + std::to_string(runs + 1) + " runs on past its corner with wall " +
-                     std::to_string(other + 1) + ": a wall between them is not seen, the walls do not close a room";
-    result.walls.clear();
-    result.corners.clear();
-    result.corner_inferred.clear();
-    result.corner_sigmas.clear();
-    result.area = result.area_sigma = 0;
-    drop_unchecked_heights(result);
+    refuse_outline("wall " + std::to_string(runs + 1) + " runs on past its corner with wall " +
+                       std::to_string(other + 1) + ": a wall between them is not seen, the walls do not close a room",
+                   result);
     return true;
   }
   return false;
@@ -391,15 +397,9 @@ bool refuse_recess(double recess_depth, RoomResult& result) {
       char what[200];
       std::snprintf(what, sizeof what, "wall %zu has a recess %.2f m wide and %.2f m deep at %.2f m along it", i + 1,
                     opening.width, opening.depth, opening.start);
-      result.status = RoomStatus::WallsDoNotClose;
-      result.message =
-          std::string(what) + " (an alcove or a bay whose sides are not found as walls): the outline would cut it off";
-      result.walls.clear();
-      result.corners.clear();
-      result.corner_inferred.clear();
-      result.corner_sigmas.clear();
-      result.area = result.area_sigma = 0;
-      drop_unchecked_heights(result);
+      refuse_outline(
+          std::string(what) + " (an alcove or a bay whose sides are not found as walls): the outline would cut it off",
+          result);
       return true;
     }
   return false;
