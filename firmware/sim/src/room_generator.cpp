@@ -46,7 +46,7 @@ double distance_to_box(const Box& box, const Eigen::Vector2d& p) {
   return outside.norm();
 }
 
-// A room whose furniture leaves no spot for the scanner's tripod: drawn again.
+// A room that leaves no spot for the scanner's tripod (furniture, or walls too close): drawn again.
 struct NoScannerSpot : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
@@ -64,7 +64,7 @@ void place_scanner(RoomModel& room, Draw& draw, double wall_margin, double box_m
     room.scanner = Eigen::Vector3d(p.x(), p.y(), draw.uniform(0.9, 1.5));
     return;
   }
-  throw NoScannerSpot("no spot for the scanner among the furniture");
+  throw NoScannerSpot("no spot for the scanner clear of walls and furniture");
 }
 
 // Low furniture (beds, sofas, tables) standing free or against a wall of a w x d rectangle.
@@ -319,13 +319,15 @@ GeneratedRoom generate_room(RoomCategory category, unsigned seed) {
   GeneratedRoom generated;
   generated.category = category;
   generated.seed = seed;
-  constexpr int kAttempts = 100;
+  constexpr int kAttempts = 100;  // the stream goes on, so each attempt draws another room
   for (int attempt = 1;; ++attempt) {
     try {
       generated.room = make_room(category, draw);
       break;
-    } catch (const NoScannerSpot&) {
-      if (attempt == kAttempts) throw;  // the stream goes on: the next room is another
+    } catch (const NoScannerSpot& error) {
+      if (attempt == kAttempts)
+        throw std::runtime_error(std::string(category_name(category)) + " room, seed " + std::to_string(seed) + ": " +
+                                 error.what() + " in " + std::to_string(kAttempts) + " rooms drawn");
     }
   }
   generated.hardware = draw_hardware(draw.random);

@@ -263,7 +263,7 @@ std::vector<WallLine> step_sides(const std::vector<WallLine>& candidates, const 
                                  const RoomSettings& settings, const std::vector<Eigen::Vector3f>& valid,
                                  const ViewLimits& view, const RoomResult& result) {
   constexpr double kMargin = 2;   // degrees either side of the gap: the side's ends
-  constexpr double kReach = 0.3;  // m: the side meets the step's walls this near where the turn leaves them
+  constexpr double kReach = 0.3;  // m: the side meets the step's walls this near where the turn leaves or meets them
   std::vector<WallLine> sides;
   for (const Step& step : step_gaps(candidates, view, settings.polygon, kMargin)) {
     std::optional<WallLine> best;
@@ -281,9 +281,9 @@ std::vector<WallLine> step_sides(const std::vector<WallLine>& candidates, const 
 // points are no better: a point that range noise carried behind the wall lands in a sparse
 // bin the filter drops, so its survivors sit in front (rooms came out 1-2 cm small).
 WallLine refine_wall(const WallLine& wall, const std::vector<Eigen::Vector3f>& points, double band) {
-  // A refit turned further than this from RANSAC's plane is not the same wall: rays that graze
-  // a short wall (a step's side seen nearly edge on) meet its line anywhere, and the points
-  // chosen by where they meet it scatter. RANSAC's fit of the voxel cloud stands then.
+  // A refit turned further than this from the candidate's line is not the same wall: rays that
+  // graze a short wall (a step's side seen nearly edge on) meet its line anywhere, and the
+  // points chosen by where they meet it scatter. The last fit that did not turn stands.
   const double max_turn = std::cos(5 * M_PI / 180);
   WallLine fitted = wall;
   for (int round = 0; round < 2; ++round) {
@@ -379,8 +379,8 @@ bool refuse_hidden_corner(const std::vector<Eigen::Vector3f>& points, RoomResult
     const bool before_runs = runs_past_corner(points, a, b, result.corners[i], +1);
     if (!before_runs && !runs_past_corner(points, b, a, result.corners[i], -1)) continue;
     const size_t runs = before_runs ? before : i, other = before_runs ? i : before;
-    refuse_outline("wall " + std::to_string(runs + 1) + " runs on past its corner with wall " +
-                       std::to_string(other + 1) + ": a wall between them is not seen, the walls do not close a room",
+    refuse_outline("wall " + std::to_string(runs + 1) + " is seen on past its corner with wall " +
+                       std::to_string(other + 1) + ": a wall between them is hidden, the walls do not close a room",
                    result);
     return true;
   }

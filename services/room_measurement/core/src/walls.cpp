@@ -580,7 +580,7 @@ std::vector<Step> step_gaps(const std::vector<WallLine>& walls, const ViewLimits
   std::string why;
   // A wall seen through a gap as narrow as a door stays: it may be an alcove's back.
   const std::optional<std::vector<SeenWall>> order = walls_around(walls, view, settings, why, true);
-  if (!order || order->size() < 2) return {};
+  if (!order || order->size() < 3) return {};                        // a recess has a wall either side
   const double parallel = settings.min_wall_angle_deg * M_PI / 180;  // closer, no corner joins them
   const double margin = margin_deg * M_PI / 180;
   std::vector<Step> steps;

@@ -253,7 +253,7 @@ TEST(RoomMeasurement, AWallSeenALittlePastItsCornerRefusesTheOutline) {
   const auto points = cast_scan({-2, 4, -1.5f, 3, -1.2f, 1.3f}, breast, random);
   const auto result = measure_room(points, RoomSettings{});
   EXPECT_EQ(result.status, RoomStatus::WallsDoNotClose) << result.message;
-  EXPECT_NE(result.message.find("runs on past its corner"), std::string::npos) << result.message;
+  EXPECT_NE(result.message.find("is seen on past its corner"), std::string::npos) << result.message;
 }
 
 TEST(RoomMeasurement, WhatIsSeenThroughADoorIsNoAlcove) {

@@ -154,10 +154,12 @@ struct Sector {
 std::vector<Sector> open_sectors(const std::vector<WallLine>& walls, const ViewLimits& view,
                                  const PolygonSettings& settings, double min_width_deg);
 
-// A gap in the turn between two parallel walls one behind the other (an alcove's or a chimney
-// breast's back and the wall it steps from), as room_polygon orders the walls: the side that
-// joins them faces the scanner there but, short and seen obliquely, made no plane of the whole
-// cloud's size. `sector` is the gap widened by `margin_deg` either side, to hold the side's ends.
+// A gap in the turn from a wall into a recess behind it, or out again (an alcove's back and
+// the wall either side of it, parallel), with the walls ordered as room_polygon orders them
+// but keeping a wall seen through a door-wide gap: the recess's side faces the scanner there
+// but, short and seen obliquely, made no plane of the whole cloud's size. `sector` is the gap
+// widened by `margin_deg` either side, to hold the side's ends; gaps narrower than the margin
+// are corners, not steps.
 struct Step {
   Sector sector;
   size_t before = 0, after = 0;  // the parallel walls, indices into the walls
