@@ -196,11 +196,14 @@ ViewLimits view_limits(const std::vector<Eigen::Vector3f>& points, const RoomRes
 }
 
 // Each wall's profile along its line and how much of it the scanner sees over, from every valid point.
+// The profile runs on past its inliers' ends as far as the wall above a wardrobe in a corner
+// may lie (a wide wardrobe is 2 m).
+constexpr double kProfileMargin = 2.0;  // m
 void describe_walls(std::vector<WallLine>& walls, const RoomSettings& settings,
                     const std::vector<Eigen::Vector3f>& valid, const ViewLimits& view) {
   const PolygonSettings& p = settings.polygon;
   for (auto& wall : walls) {
-    wall.profile = wall_profile(wall, valid, settings.ransac.distance, settings.opening_beyond, 0.5);
+    wall.profile = wall_profile(wall, valid, settings.ransac.distance, settings.opening_beyond, kProfileMargin);
     wall.seen_over = seen_over_share(wall, valid, 0.1, 0.2, view.top_at(wall.offset) - p.top_margin - p.top_band);
   }
 }

@@ -86,10 +86,22 @@ bool stands_to_top(const WallLine& wall, double along, double reach, double top,
          wall.profile.has_points(along, reach, top - settings.top_band, top);
 }
 
-// Whether it does so anywhere along it.
+// Whether it does so anywhere along it, with the view's top where each part of it lies (a
+// wardrobe's face beside the scanner is seen to its top at its far end).
 bool reaches_top(const WallLine& wall, const ViewLimits& view, const PolygonSettings& settings) {
-  const double middle = (wall.start + wall.end) / 2, half = (wall.end - wall.start) / 2;
-  return stands_to_top(wall, middle, half, view.top_at(wall.offset) - settings.top_margin, settings);
+  const double step = wall.profile.slot;
+  for (double along = wall.start; along <= wall.end; along += step) {
+    const double top = view.top_at(std::hypot(wall.offset, along)) - settings.top_margin;
+    if (stands_to_top(wall, along, step / 2, top, settings)) return true;
+  }
+  return false;
+}
+
+// Whether the ray at `angle` meets `near`'s line before `far`'s.
+bool in_front(const WallLine& near, const WallLine& far, double angle) {
+  const Eigen::Vector2d ray(std::cos(angle), std::sin(angle));
+  const double facing_far = far.normal.dot(ray), facing_near = near.normal.dot(ray);
+  return facing_near > 0 && (facing_far <= 0 || near.offset / facing_near < far.offset / facing_far);
 }
 
 // Where the ray at `angle` meets a wall's line, as an along-position on it.
@@ -105,12 +117,23 @@ void drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, 
       const size_t next = (i + 1) % order.size();
       const WallLine& a = walls[order[i].wall];
       const WallLine& b = walls[order[next].wall];
+      const size_t after = (i + 2) % order.size();
+      // A wall across another, seen in front of it between two runs of it, is no side of the
+      // room: the outline cannot leave a wall and come back onto it at one turn. It is the side
+      // of furniture standing on that wall, seen edge-on where it meets the wall above it, or
+      // the rays flickering between two walls at their corner. (Behind the wall's line it may be
+      // an arm's side seen through the arm's opening.)
+      if (order[i].wall == order[after].wall && std::abs(cross(a.normal, b.normal)) >= min_sine &&
+          in_front(b, a, (order[next].first + order[next].last) / 2)) {
+        order.erase(order.begin() + static_cast<long>(next));
+        changed = true;
+        continue;
+      }
       if (std::abs(cross(a.normal, b.normal)) >= min_sine || a.normal.dot(b.normal) < 0) continue;
       // A wall seen between two runs of one nearer wall lies beyond a gap in it: outside, when
       // the gap is a door's (its lintel above the view, as from inside a closet). A wider gap
       // may be the room going on (an L's or T's arm whose sides are not seen): not decided here.
       // The runs end support_reach inside the gap's edges.
-      const size_t after = (i + 2) % order.size();
       const double gap =
           std::abs(along_at(a, order[after].first) - along_at(a, order[i].last)) + 2 * settings.support_reach;
       if (!keep_through_gaps && order.size() >= 4 && order[i].wall == order[after].wall && b.offset > a.offset &&
@@ -140,6 +163,10 @@ void drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, 
   }
 }
 
+// Past its inliers' ends by more than this, points on a wall's line are not its own (a crossing
+// wall's range noise far away, ground seen through a door) unless it is seen above furniture.
+constexpr double kOwnStretch = 0.5;  // m
+
 // Whether a seen wall has points at wall heights well past a corner (`direction` +1: past its
 // end side, -1: its start side), and is not seen through there: it goes on behind its
 // neighbour, so the corner is not one (the neighbour's end stands in front of it, and a wall
@@ -149,6 +176,7 @@ bool runs_past(const WallLine& wall, const Eigen::Vector2d& corner, int directio
   constexpr double kPast = 0.25, kReach = 0.05, kLow = 0.3, kHigh = 1.5;  // m
   if (wall.inferred) return false;
   const double along = wall.direction().dot(corner) + direction * kPast, base = wall.profile.base;
+  if (along < wall.start - kOwnStretch || along > wall.end + kOwnStretch) return false;
   return wall.profile.has_points(along, kReach, base + kLow, base + kHigh) &&
          !wall.profile.seen_through(along, kReach, base + kLow);
 }
@@ -368,6 +396,8 @@ WallProfile wall_profile(const WallLine& wall, const std::vector<Eigen::Vector3f
     const double slot = slot_of(direction.dot(p.head<2>()));
     if (slot < 0 || slot >= static_cast<double>(slots)) continue;
     near.emplace_back(static_cast<size_t>(slot), p.z());
+    const double along = direction.dot(p.head<2>());
+    if (along < wall.start - kOwnStretch || along > wall.end + kOwnStretch) continue;  // heights of its own
     low = std::min(low, p.z());
     high = std::max(high, p.z());
   }
@@ -412,7 +442,11 @@ struct Run {
 };
 
 // The nearest enclosing wall in each direction, a quarter of a degree at a time, in runs. A
-// wall that does not reach the top of the view is furniture when a wall stands behind it.
+// wall that does not reach the top of the view is furniture when a wall stands behind it. Behind
+// furniture a wall counts past its inliers' ends as far as its profile shows it: the wall above
+// a wardrobe in a corner is no inlier (the histogram filter drops its short columns), and without
+// it the wardrobe's faces close the room. Elsewhere the points past its ends are a crossing
+// neighbour's, or a wall in line with it in the next room seen through a door.
 std::vector<Run> enclosing_runs(const std::vector<WallLine>& walls, const ViewLimits& view,
                                 const PolygonSettings& settings) {
   constexpr double kFloorBand = 0.15;  // m over the lowest point near a wall's line
@@ -420,6 +454,7 @@ std::vector<Run> enclosing_runs(const std::vector<WallLine>& walls, const ViewLi
   struct Hit {
     double t;
     int wall;
+    bool past_ends;
   };
   std::vector<Hit> hits;
   for (int step = 0; step < kSteps; ++step) {
@@ -431,17 +466,20 @@ std::vector<Run> enclosing_runs(const std::vector<WallLine>& walls, const ViewLi
       if (facing < 1e-6) continue;
       const double t = walls[w].offset / facing;
       const double along = walls[w].direction().dot(t * ray);
-      if (along < walls[w].start - settings.extent_tolerance || along > walls[w].end + settings.extent_tolerance)
-        continue;
+      const bool past_ends =
+          along < walls[w].start - settings.extent_tolerance || along > walls[w].end + settings.extent_tolerance;
       // Points at a wall's own heights: the floor and ceiling run on under an alcove or a
       // chimney breast's side, where no wall stands on the line.
       const double top = view.top_at(t) - settings.top_margin;
       if (walls[w].profile.has_points(along, settings.support_reach, walls[w].profile.base + kFloorBand, top))
-        hits.push_back({t, static_cast<int>(w)});
+        hits.push_back({t, static_cast<int>(w), past_ends});
     }
-    if (hits.empty()) continue;
     std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) { return a.t < b.t; });
-    seen[step] = hits.back().wall;  // nothing reaches the top: the farthest, as furniture stands in front
+    // Past its ends only behind furniture: behind a nearer wall within its ends.
+    while (!hits.empty() && hits.front().past_ends) hits.erase(hits.begin());
+    const auto farthest = std::find_if(hits.rbegin(), hits.rend(), [](const Hit& hit) { return !hit.past_ends; });
+    if (farthest == hits.rend()) continue;
+    seen[step] = farthest->wall;  // nothing reaches the top: the farthest, as furniture stands in front
     for (const Hit& hit : hits) {
       const double top = view.top_at(hit.t) - settings.top_margin;
       const double along = walls[hit.wall].direction().dot(hit.t * ray);

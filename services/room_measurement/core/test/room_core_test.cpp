@@ -256,6 +256,20 @@ TEST(RoomMeasurement, AWallSeenALittlePastItsCornerRefusesTheOutline) {
   EXPECT_NE(result.message.find("is seen on past its corner"), std::string::npos) << result.message;
 }
 
+// A wardrobe 2.2 m high in the corner of a 2.9 m room, its face 0.88 m from the scanner: straight
+// ahead the view ends below its top, but towards its far end the ceiling is in view and the
+// face stops 0.75 m under it, and the wall behind is seen above it past its side. It is
+// furniture, not a notch in the outline: 4 walls, the corner behind it where the walls meet.
+TEST(RoomMeasurement, AWardrobeInACornerBesideTheScannerIsNoNotch) {
+  std::mt19937 random(17);
+  const std::vector<Box> wardrobe = {{-2.3f, -1.23f, 0.88f, 1.44f, -1.0f, 1.2f}};
+  const auto points = cast_scan({-2.3f, 3, -2.5f, 1.44f, -1.0f, 1.95f}, wardrobe, random);
+  const auto result = measure_room(points, RoomSettings{});
+  ASSERT_EQ(result.status, RoomStatus::Ok) << result.message;
+  EXPECT_EQ(result.walls.size(), 4u) << result.message;
+  EXPECT_NEAR(result.area, 5.3 * 3.94, 0.1) << result.message;
+}
+
 TEST(RoomMeasurement, WhatIsSeenThroughADoorIsNoAlcove) {
   std::mt19937 random(5);
   std::vector<Eigen::Vector3f> points;
