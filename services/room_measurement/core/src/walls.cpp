@@ -87,10 +87,11 @@ bool stands_to_top(const WallLine& wall, double along, double reach, double top,
 }
 
 // Whether it does so anywhere along it, with the view's top where each part of it lies (a
-// wardrobe's face beside the scanner is seen to its top at its far end).
+// wardrobe's face beside the scanner is seen to its top at its far end). Not at its ends, where
+// a wall it meets in a corner stands on its line.
 bool reaches_top(const WallLine& wall, const ViewLimits& view, const PolygonSettings& settings) {
   const double step = wall.profile.slot;
-  for (double along = wall.start; along <= wall.end; along += step) {
+  for (double along = wall.start + settings.support_reach; along <= wall.end - settings.support_reach; along += step) {
     const double top = view.top_at(std::hypot(wall.offset, along)) - settings.top_margin;
     if (stands_to_top(wall, along, step / 2, top, settings)) return true;
   }
@@ -106,6 +107,34 @@ bool in_front(const WallLine& near, const WallLine& far, double angle) {
 
 // Where the ray at `angle` meets a wall's line, as an along-position on it.
 double along_at(const WallLine& wall, double angle) { return wall.along_on_ray({std::cos(angle), std::sin(angle)}); }
+
+// Furniture in a corner (a wardrobe against wall A beside wall B) turns the outline from A to
+// its side (parallel to B, nearer), its front (parallel to A, nearer) and B: a notch, with no
+// two parallel neighbours. When neither face reaches the top of the view both are furniture,
+// and A meets B behind them.
+bool drop_corner_furniture(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
+                           std::vector<SeenWall>& order) {
+  const double min_sine = std::sin(settings.min_wall_angle_deg * M_PI / 180);
+  auto in_front_of = [&](const WallLine& near, const WallLine& far) {
+    return std::abs(cross(near.normal, far.normal)) < min_sine && near.normal.dot(far.normal) > 0 &&
+           near.offset < far.offset;
+  };
+  const size_t count = order.size();
+  if (count < 5) return false;  // three walls stay
+  for (size_t i = 0; i < count; ++i) {
+    const size_t side = (i + 1) % count, front = (i + 2) % count;
+    const WallLine& a = walls[order[i].wall];
+    const WallLine& b = walls[order[(i + 3) % count].wall];
+    if (std::abs(cross(a.normal, b.normal)) < min_sine || !in_front_of(walls[order[side].wall], b) ||
+        !in_front_of(walls[order[front].wall], a) || reaches_top(walls[order[side].wall], view, settings) ||
+        reaches_top(walls[order[front].wall], view, settings))
+      continue;
+    order.erase(order.begin() + static_cast<long>(std::max(side, front)));
+    order.erase(order.begin() + static_cast<long>(std::min(side, front)));
+    return true;
+  }
+  return false;
+}
 
 void drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
                     std::vector<SeenWall>& order, bool keep_through_gaps) {
@@ -147,6 +176,7 @@ void drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, 
       order.erase(order.begin() + static_cast<long>(nearer));
       changed = true;
     }
+    if (!changed) changed = drop_corner_furniture(walls, view, settings, order);
     // Dropping one leaves the same wall on both sides of the gap.
     for (size_t i = 0; i + 1 < order.size();) {
       if (order[i].wall == order[i + 1].wall) {

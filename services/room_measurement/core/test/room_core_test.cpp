@@ -270,6 +270,20 @@ TEST(RoomMeasurement, AWardrobeInACornerBesideTheScannerIsNoNotch) {
   EXPECT_NEAR(result.area, 5.3 * 3.94, 0.1) << result.message;
 }
 
+// A wardrobe in the far corner, 0.45 m under the ceiling and 0.7 m deep: the wall behind it is
+// in its shadow up to the ceiling, so the turn goes wall, its side, its front, wall, a notch
+// with no two parallel neighbours. Neither face reaches the top of the view: both are
+// furniture and the room's walls meet behind them.
+TEST(RoomMeasurement, AWardrobeInTheFarCornerIsNoNotch) {
+  std::mt19937 random(19);
+  const std::vector<Box> wardrobe = {{2.0f, 4, 2.1f, 3, -1.2f, 0.9f}};
+  const auto points = cast_scan({-2, 4, -1.5f, 3, -1.2f, 1.3f}, wardrobe, random);
+  const auto result = measure_room(points, RoomSettings{});
+  ASSERT_EQ(result.status, RoomStatus::Ok) << result.message;
+  EXPECT_EQ(result.walls.size(), 4u) << result.message;
+  EXPECT_NEAR(result.area, 6 * 4.5, 0.1) << result.message;
+}
+
 TEST(RoomMeasurement, WhatIsSeenThroughADoorIsNoAlcove) {
   std::mt19937 random(5);
   std::vector<Eigen::Vector3f> points;
