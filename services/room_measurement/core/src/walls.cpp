@@ -88,14 +88,23 @@ bool stands_to_top(const WallLine& wall, double along, double reach, double top,
 
 // Whether it does so anywhere along it, with the view's top where each part of it lies (a
 // wardrobe's face beside the scanner is seen to its top at its far end). Not at its ends, where
-// a wall it meets in a corner stands on its line.
-bool reaches_top(const WallLine& wall, const ViewLimits& view, const PolygonSettings& settings) {
+// a wall it meets in a corner stands on its line. Near the scanner the view may end below the
+// ceiling all along it: then reaching the top of the view does not tell a wall from furniture.
+enum class TopSeen { Ceiling, ViewOnly, Stops };
+TopSeen top_seen(const WallLine& wall, const ViewLimits& view, const PolygonSettings& settings) {
   const double step = wall.profile.slot;
+  bool view_only = false;
   for (double along = wall.start + settings.support_reach; along <= wall.end - settings.support_reach; along += step) {
-    const double top = view.top_at(std::hypot(wall.offset, along)) - settings.top_margin;
-    if (stands_to_top(wall, along, step / 2, top, settings)) return true;
+    const double t = std::hypot(wall.offset, along);
+    if (!stands_to_top(wall, along, step / 2, view.top_at(t) - settings.top_margin, settings)) continue;
+    if (view.top_at(t) >= view.top) return TopSeen::Ceiling;
+    view_only = true;
   }
-  return false;
+  return view_only ? TopSeen::ViewOnly : TopSeen::Stops;
+}
+
+bool reaches_top(const WallLine& wall, const ViewLimits& view, const PolygonSettings& settings) {
+  return top_seen(wall, view, settings) != TopSeen::Stops;
 }
 
 // Whether the ray at `angle` meets `near`'s line before `far`'s.
@@ -111,33 +120,43 @@ double along_at(const WallLine& wall, double angle) { return wall.along_on_ray({
 // Furniture in a corner (a wardrobe against wall A beside wall B) turns the outline from A to
 // its side (parallel to B, nearer), its front (parallel to A, nearer) and B: a notch, with no
 // two parallel neighbours. When neither face reaches the top of the view both are furniture,
-// and A meets B behind them.
+// and A meets B behind them. When neither is seen to reach the ceiling but one reaches the top
+// of a view that ends below it, the notch may be either: `why` says so and false is returned.
 bool drop_corner_furniture(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
-                           std::vector<SeenWall>& order) {
+                           std::vector<SeenWall>& order, bool& changed, std::string& why) {
   const double min_sine = std::sin(settings.min_wall_angle_deg * M_PI / 180);
   auto in_front_of = [&](const WallLine& near, const WallLine& far) {
     return std::abs(cross(near.normal, far.normal)) < min_sine && near.normal.dot(far.normal) > 0 &&
            near.offset < far.offset;
   };
   const size_t count = order.size();
-  if (count < 5) return false;  // three walls stay
+  if (count < 5) return true;  // three walls stay
   for (size_t i = 0; i < count; ++i) {
     const size_t side = (i + 1) % count, front = (i + 2) % count;
     const WallLine& a = walls[order[i].wall];
     const WallLine& b = walls[order[(i + 3) % count].wall];
     if (std::abs(cross(a.normal, b.normal)) < min_sine || !in_front_of(walls[order[side].wall], b) ||
-        !in_front_of(walls[order[front].wall], a) || reaches_top(walls[order[side].wall], view, settings) ||
-        reaches_top(walls[order[front].wall], view, settings))
+        !in_front_of(walls[order[front].wall], a))
       continue;
+    const TopSeen side_top = top_seen(walls[order[side].wall], view, settings);
+    const TopSeen front_top = top_seen(walls[order[front].wall], view, settings);
+    if (side_top == TopSeen::Ceiling || front_top == TopSeen::Ceiling) continue;
+    if (side_top == TopSeen::ViewOnly || front_top == TopSeen::ViewOnly) {
+      why =
+          "a corner is cut by two faces so near the scanner that the view ends below the ceiling over them: "
+          "a wardrobe or the room's walls cannot be told apart";
+      return false;
+    }
     order.erase(order.begin() + static_cast<long>(std::max(side, front)));
     order.erase(order.begin() + static_cast<long>(std::min(side, front)));
+    changed = true;
     return true;
   }
-  return false;
+  return true;
 }
 
-void drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
-                    std::vector<SeenWall>& order, bool keep_through_gaps) {
+bool drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
+                    std::vector<SeenWall>& order, bool keep_through_gaps, std::string& why) {
   const double min_sine = std::sin(settings.min_wall_angle_deg * M_PI / 180);
   bool changed = true;
   while (changed && order.size() >= 3) {
@@ -176,7 +195,7 @@ void drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, 
       order.erase(order.begin() + static_cast<long>(nearer));
       changed = true;
     }
-    if (!changed) changed = drop_corner_furniture(walls, view, settings, order);
+    if (!changed && !drop_corner_furniture(walls, view, settings, order, changed, why)) return false;
     // Dropping one leaves the same wall on both sides of the gap.
     for (size_t i = 0; i + 1 < order.size();) {
       if (order[i].wall == order[i + 1].wall) {
@@ -191,6 +210,7 @@ void drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, 
       order.pop_back();
     }
   }
+  return true;
 }
 
 // Past its inliers' ends by more than this, points on a wall's line are not its own (a crossing
@@ -579,7 +599,7 @@ std::optional<std::vector<SeenWall>> walls_around(const std::vector<WallLine>& w
     order.front().first = order.back().first - 2 * M_PI;
     order.pop_back();
   }
-  drop_occluders(walls, view, settings, order, keep_through_gaps);
+  if (!drop_occluders(walls, view, settings, order, keep_through_gaps, why)) return std::nullopt;
   return order;
 }
 
