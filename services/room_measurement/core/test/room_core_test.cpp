@@ -594,6 +594,23 @@ TEST(WallAdjustment, RecoversRangeBiasLeverArmAndPitchErrors) {
   }
 }
 
+// A 5 cm range bias is five times what an offset-calibrated LIDAR-Lite keeps (its prior, 1 cm):
+// device terms that far out took up something the model lacks (in T-shaped rooms of the sweep,
+// a 6 cm bias and a 1.4 degree yaw error moved walls by 9 cm). The walls are fitted alone.
+TEST(WallAdjustment, DeviceTermsBeyondThreeSigmasOfTheirPriorsAreNotEstimated) {
+  AdjustmentSettings settings;
+  settings.bootstrap = 0;
+  const auto walls = scanned_box_walls(0.05, 0.0, 0.0);
+  const auto adjusted = adjust_walls(walls, settings);
+  EXPECT_NEAR(adjusted.range_bias, 0.0, 1e-6);  // held
+  AdjustmentSettings walls_alone = settings;
+  walls_alone.estimate_device = false;
+  const auto alone = adjust_walls(walls, walls_alone);
+  for (size_t i = 0; i < 4; ++i) EXPECT_DOUBLE_EQ(adjusted.lengths[i], alone.lengths[i]) << i;
+  const auto within = adjust_walls(scanned_box_walls(0.025, 0.0, 0.0), settings);  // 2.5 sigmas: estimated
+  EXPECT_NEAR(within.range_bias, -0.025, 0.002);
+}
+
 TEST(WallAdjustment, RecoversAOncePerTurnYawError) {  // a printed gear's runout
   AdjustmentSettings settings;
   settings.bootstrap = 0;
