@@ -256,32 +256,32 @@ TEST(RoomMeasurement, AWallSeenALittlePastItsCornerRefusesTheOutline) {
   EXPECT_NE(result.message.find("is seen on past its corner"), std::string::npos) << result.message;
 }
 
-// A wardrobe 2.2 m high in the corner of a 2.9 m room, its face 0.88 m from the scanner: straight
-// ahead the view ends below its top, but towards its far end the ceiling is in view and the
-// face stops 0.75 m under it, and the wall behind is seen above it past its side. It is
-// furniture, not a notch in the outline: 4 walls, the corner behind it where the walls meet.
-TEST(RoomMeasurement, AWardrobeInACornerBesideTheScannerIsNoNotch) {
+// A wardrobe in a corner is furniture, not a notch in the outline: 4 walls, meeting behind it.
+// - Beside the scanner: 2.2 m high in a 2.9 m room, its face 0.88 m away. Straight ahead the
+//   view ends below its top, but towards its far end the ceiling is in view and the face stops
+//   0.75 m under it; the wall behind is seen above it past its side.
+// - In the far corner: 0.45 m under the ceiling and 0.7 m deep, the wall behind it in its
+//   shadow up to the ceiling. The turn goes wall, its side, its front, wall: a notch with no two
+//   parallel neighbours. Neither face reaches the top of the view.
+TEST(RoomMeasurement, AWardrobeInACornerIsNoNotch) {
+  struct Case {
+    const char* name;
+    Box room, wardrobe;
+    double area;
+  };
+  const Case cases[] = {
+      {"beside the scanner",
+       {-2.3f, 3, -2.5f, 1.44f, -1.0f, 1.95f},
+       {-2.3f, -1.23f, 0.88f, 1.44f, -1.0f, 1.2f},
+       5.3 * 3.94},
+      {"in the far corner", {-2, 4, -1.5f, 3, -1.2f, 1.3f}, {2.0f, 4, 2.1f, 3, -1.2f, 0.9f}, 6 * 4.5}};
   std::mt19937 random(17);
-  const std::vector<Box> wardrobe = {{-2.3f, -1.23f, 0.88f, 1.44f, -1.0f, 1.2f}};
-  const auto points = cast_scan({-2.3f, 3, -2.5f, 1.44f, -1.0f, 1.95f}, wardrobe, random);
-  const auto result = measure_room(points, RoomSettings{});
-  ASSERT_EQ(result.status, RoomStatus::Ok) << result.message;
-  EXPECT_EQ(result.walls.size(), 4u) << result.message;
-  EXPECT_NEAR(result.area, 5.3 * 3.94, 0.1) << result.message;
-}
-
-// A wardrobe in the far corner, 0.45 m under the ceiling and 0.7 m deep: the wall behind it is
-// in its shadow up to the ceiling, so the turn goes wall, its side, its front, wall, a notch
-// with no two parallel neighbours. Neither face reaches the top of the view: both are
-// furniture and the room's walls meet behind them.
-TEST(RoomMeasurement, AWardrobeInTheFarCornerIsNoNotch) {
-  std::mt19937 random(19);
-  const std::vector<Box> wardrobe = {{2.0f, 4, 2.1f, 3, -1.2f, 0.9f}};
-  const auto points = cast_scan({-2, 4, -1.5f, 3, -1.2f, 1.3f}, wardrobe, random);
-  const auto result = measure_room(points, RoomSettings{});
-  ASSERT_EQ(result.status, RoomStatus::Ok) << result.message;
-  EXPECT_EQ(result.walls.size(), 4u) << result.message;
-  EXPECT_NEAR(result.area, 6 * 4.5, 0.1) << result.message;
+  for (const auto& c : cases) {
+    const auto result = measure_room(cast_scan(c.room, {c.wardrobe}, random), RoomSettings{});
+    ASSERT_EQ(result.status, RoomStatus::Ok) << c.name << ": " << result.message;
+    EXPECT_EQ(result.walls.size(), 4u) << c.name << ": " << result.message;
+    EXPECT_NEAR(result.area, c.area, 0.1) << c.name << ": " << result.message;
+  }
 }
 
 // A wardrobe in a corner right beside the scanner (its faces 0.5 and 0.3 m away, 0.8 m under
