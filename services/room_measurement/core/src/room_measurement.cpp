@@ -79,6 +79,7 @@ void adjust(const AdjustmentSettings& settings, const std::vector<Eigen::Vector3
   result.area_sigma = adjusted.area_sigma;
   result.range_bias = adjusted.range_bias;
   result.lever_arm = adjusted.lever_arm;
+  result.device_held = adjusted.device_held;
 }
 
 // The floor is a horizontal plane among the lowest points, the ceiling among the highest:
@@ -195,10 +196,11 @@ ViewLimits view_limits(const std::vector<Eigen::Vector3f>& points, const RoomRes
   return view;
 }
 
-// Each wall's profile along its line and how much of it the scanner sees over, from every valid point.
-// The profile runs on past its inliers' ends as far as the wall above a wardrobe in a corner
-// may lie (a wide wardrobe is 2 m).
+// The profile runs on past a wall's inliers' ends as far as the wall above a wardrobe in a
+// corner may lie (a wide wardrobe is 2 m): enclosing_runs counts it there behind furniture.
 constexpr double kProfileMargin = 2.0;  // m
+
+// Each wall's profile along its line and how much of it the scanner sees over, from every valid point.
 void describe_walls(std::vector<WallLine>& walls, const RoomSettings& settings,
                     const std::vector<Eigen::Vector3f>& valid, const ViewLimits& view) {
   const PolygonSettings& p = settings.polygon;

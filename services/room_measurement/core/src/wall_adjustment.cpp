@@ -275,18 +275,20 @@ Spread prior_spread(const System& system, const std::vector<WallLine>& walls, co
   return spread;
 }
 
-}  // namespace
-
-// Whether each device term estimated lies within kPriorSigmas of its prior sigma. Beyond, the
-// terms took up something the model lacks (a wall's points bent by what stands on its line;
-// seen in T-shaped rooms: a 6 cm range bias and a 1.4 degree yaw error moved walls by 9 cm).
+// Whether the device terms estimated lie within kPriorSigmas of their priors (the yaw error's
+// sine and cosine parts as one amplitude, whatever its phase). Beyond, they took up something
+// the model lacks (a wall's points bent by what stands on its line; seen in T-shaped rooms: a
+// 6 cm range bias and a 1.4 degree yaw error moved walls by 9 cm).
 bool device_within_priors(const Eigen::VectorXd& x, size_t walls, const AdjustmentSettings& settings) {
   constexpr double kPriorSigmas = 3;
   const auto sigmas = device_sigmas(settings);
-  for (size_t i = 0; i < kDeviceTerms; ++i)
-    if (std::abs(x[2 * walls + i]) > kPriorSigmas * sigmas[i]) return false;
-  return true;
+  const double* device = x.data() + 2 * walls;
+  for (size_t i = 0; i < 3; ++i)
+    if (std::abs(device[i]) > kPriorSigmas * sigmas[i]) return false;
+  return std::hypot(device[3], device[4]) <= kPriorSigmas * sigmas[3];
 }
+
+}  // namespace
 
 AdjustedWalls adjust_walls(const std::vector<WallLine>& walls, const AdjustmentSettings& settings) {
   if (walls.size() < 3) throw std::invalid_argument("adjust_walls needs at least 3 walls");
@@ -301,7 +303,9 @@ AdjustedWalls adjust_walls(const std::vector<WallLine>& walls, const AdjustmentS
   if (settings.estimate_device && !device_within_priors(x, count, settings)) {
     AdjustmentSettings held = settings;  // the walls alone, the device terms' priors in their sigmas
     held.estimate_device = false;
-    return adjust_walls(walls, held);
+    AdjustedWalls alone = adjust_walls(walls, held);
+    alone.device_held = true;
+    return alone;
   }
   const Outline best = outline(walls, x);
 

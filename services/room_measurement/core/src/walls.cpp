@@ -75,10 +75,6 @@ bool segments_cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Ei
   return ((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0));
 }
 
-// Two neighbours in the turn that are parallel cannot meet in a corner. When the nearer one
-// does not reach the top of the view it is furniture in front of the other (a wardrobe whose
-// wall above it the histogram filter dropped): drop it, so the wall behind meets its true
-// neighbours. A nearer one that reaches the top is a wall: the wall between them is missing.
 // Whether a wall has points just below `top` within `reach` of an along-position (furniture
 // has none) and is not seen over (furniture under the ceiling).
 bool stands_to_top(const WallLine& wall, double along, double reach, double top, const PolygonSettings& settings) {
@@ -86,10 +82,14 @@ bool stands_to_top(const WallLine& wall, double along, double reach, double top,
          wall.profile.has_points(along, reach, top - settings.top_band, top);
 }
 
-// Whether it does so anywhere along it, with the view's top where each part of it lies (a
-// wardrobe's face beside the scanner is seen to its top at its far end). Not at its ends, where
-// a wall it meets in a corner stands on its line. Near the scanner the view may end below the
-// ceiling all along it: then reaching the top of the view does not tell a wall from furniture.
+// Whether it does so somewhere along it, with the view's top where each part of it lies (a
+// wardrobe's face beside the scanner is seen to stop under it at its far end), and where:
+// - Ceiling: at a part where the view reaches the ceiling (a wall);
+// - ViewOnly: only at parts where the view ends below the ceiling (near the scanner): a wall
+//   and furniture taller than the view there look alike;
+// - Stops: nowhere (furniture).
+// Not within support_reach of its ends, where a wall it meets in a corner stands on its line:
+// a face shorter than twice that always Stops.
 enum class TopSeen { Ceiling, ViewOnly, Stops };
 TopSeen top_seen(const WallLine& wall, const ViewLimits& view, const PolygonSettings& settings) {
   const double step = wall.profile.slot;
@@ -120,23 +120,24 @@ double along_at(const WallLine& wall, double angle) { return wall.along_on_ray({
 // Furniture in a corner (a wardrobe against wall A beside wall B) turns the outline from A to
 // its side (parallel to B, nearer), its front (parallel to A, nearer) and B: a notch, with no
 // two parallel neighbours. When neither face reaches the top of the view both are furniture,
-// and A meets B behind them. When neither is seen to reach the ceiling but one reaches the top
-// of a view that ends below it, the notch may be either: `why` says so and false is returned.
-bool drop_corner_furniture(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
-                           std::vector<SeenWall>& order, bool& changed, std::string& why) {
-  const double min_sine = std::sin(settings.min_wall_angle_deg * M_PI / 180);
-  auto in_front_of = [&](const WallLine& near, const WallLine& far) {
+// and A meets B behind them (Dropped). When neither is seen to reach the ceiling but one
+// reaches the top of a view that ends below it, the notch may be either (Ambiguous, `why`).
+enum class CornerFurniture { None, Dropped, Ambiguous };
+CornerFurniture drop_corner_furniture(const std::vector<WallLine>& walls, const ViewLimits& view,
+                                      const PolygonSettings& settings, double min_sine, std::vector<SeenWall>& order,
+                                      std::string& why) {
+  auto nearer_parallel = [&](const WallLine& near, const WallLine& far) {
     return std::abs(cross(near.normal, far.normal)) < min_sine && near.normal.dot(far.normal) > 0 &&
            near.offset < far.offset;
   };
   const size_t count = order.size();
-  if (count < 5) return true;  // three walls stay
+  if (count < 5) return CornerFurniture::None;  // three walls stay
   for (size_t i = 0; i < count; ++i) {
     const size_t side = (i + 1) % count, front = (i + 2) % count;
     const WallLine& a = walls[order[i].wall];
     const WallLine& b = walls[order[(i + 3) % count].wall];
-    if (std::abs(cross(a.normal, b.normal)) < min_sine || !in_front_of(walls[order[side].wall], b) ||
-        !in_front_of(walls[order[front].wall], a))
+    if (std::abs(cross(a.normal, b.normal)) < min_sine || !nearer_parallel(walls[order[side].wall], b) ||
+        !nearer_parallel(walls[order[front].wall], a))
       continue;
     const TopSeen side_top = top_seen(walls[order[side].wall], view, settings);
     const TopSeen front_top = top_seen(walls[order[front].wall], view, settings);
@@ -145,15 +146,41 @@ bool drop_corner_furniture(const std::vector<WallLine>& walls, const ViewLimits&
       why =
           "a corner is cut by two faces so near the scanner that the view ends below the ceiling over them: "
           "a wardrobe or the room's walls cannot be told apart";
-      return false;
+      return CornerFurniture::Ambiguous;
     }
     order.erase(order.begin() + static_cast<long>(std::max(side, front)));
     order.erase(order.begin() + static_cast<long>(std::min(side, front)));
-    changed = true;
-    return true;
+    return CornerFurniture::Dropped;
   }
-  return true;
+  return CornerFurniture::None;
 }
+
+// Dropping a wall leaves the same wall on both sides of the gap: one run. The run over angle 0
+// starts before it (`first` negative), as walls_around numbers it.
+void merge_repeats(std::vector<SeenWall>& order) {
+  for (size_t i = 0; i + 1 < order.size();) {
+    if (order[i].wall == order[i + 1].wall) {
+      order[i].last = order[i + 1].last;
+      order.erase(order.begin() + static_cast<long>(i) + 1);
+    } else {
+      ++i;
+    }
+  }
+  if (order.size() > 1 && order.front().wall == order.back().wall) {
+    order.front().first = order.back().first - 2 * M_PI;
+    order.pop_back();
+  }
+}
+
+// The walls in the turn that are not the room's (occluders), dropped until none is left:
+// - a wall across another, in front of it, between two runs of it;
+// - of two parallel neighbours (they cannot meet in a corner): a farther one seen through a
+//   door-wide gap in the nearer, or a nearer one that does not reach the top of the view,
+//   furniture in front of the other (a wardrobe whose wall above the histogram filter
+//   dropped), so the wall behind meets its true neighbours; a nearer one that reaches the top
+//   is a wall, and the wall between them is missing (inferred later);
+// - the two faces of furniture in a corner (drop_corner_furniture).
+// False, with `why`, when a corner's faces cannot be told from walls.
 
 bool drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
                     std::vector<SeenWall>& order, bool keep_through_gaps, std::string& why) {
@@ -195,20 +222,12 @@ bool drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, 
       order.erase(order.begin() + static_cast<long>(nearer));
       changed = true;
     }
-    if (!changed && !drop_corner_furniture(walls, view, settings, order, changed, why)) return false;
-    // Dropping one leaves the same wall on both sides of the gap.
-    for (size_t i = 0; i + 1 < order.size();) {
-      if (order[i].wall == order[i + 1].wall) {
-        order[i].last = order[i + 1].last;
-        order.erase(order.begin() + static_cast<long>(i) + 1);
-      } else {
-        ++i;
-      }
+    if (!changed) {
+      const CornerFurniture corner = drop_corner_furniture(walls, view, settings, min_sine, order, why);
+      if (corner == CornerFurniture::Ambiguous) return false;
+      changed = corner == CornerFurniture::Dropped;
     }
-    if (order.size() > 1 && order.front().wall == order.back().wall) {
-      order.front().first = order.back().first;
-      order.pop_back();
-    }
+    merge_repeats(order);
   }
   return true;
 }
@@ -443,15 +462,15 @@ WallProfile wall_profile(const WallLine& wall, const std::vector<Eigen::Vector3f
       continue;
     }
     if (std::abs(distance) > band) continue;
-    const double slot = slot_of(direction.dot(p.head<2>()));
+    const double along = direction.dot(p.head<2>());
+    const double slot = slot_of(along);
     if (slot < 0 || slot >= static_cast<double>(slots)) continue;
     near.emplace_back(static_cast<size_t>(slot), p.z());
-    const double along = direction.dot(p.head<2>());
     if (along < wall.start - kOwnStretch || along > wall.end + kOwnStretch) continue;  // heights of its own
     low = std::min(low, p.z());
     high = std::max(high, p.z());
   }
-  if (near.empty()) return profile;
+  if (near.empty() || low > high) return profile;
   profile.base = low;
   profile.cell = std::max(0.05, (high - low) / 63.9);
   auto cell_of = [&](float z) { return std::clamp(static_cast<int>(std::floor((z - low) / profile.cell)), 0, 63); };
@@ -496,7 +515,8 @@ struct Run {
 // furniture a wall counts past its inliers' ends as far as its profile shows it: the wall above
 // a wardrobe in a corner is no inlier (the histogram filter drops its short columns), and without
 // it the wardrobe's faces close the room. Elsewhere the points past its ends are a crossing
-// neighbour's, or a wall in line with it in the next room seen through a door.
+// neighbour's, or a wall in line with it in the next room seen through a door. How far past its
+// ends it may count is how far its profile reaches (describe_walls' margin).
 std::vector<Run> enclosing_runs(const std::vector<WallLine>& walls, const ViewLimits& view,
                                 const PolygonSettings& settings) {
   constexpr double kFloorBand = 0.15;  // m over the lowest point near a wall's line
@@ -526,10 +546,10 @@ std::vector<Run> enclosing_runs(const std::vector<WallLine>& walls, const ViewLi
     }
     std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) { return a.t < b.t; });
     // Past its ends only behind furniture: behind a nearer wall within its ends.
-    while (!hits.empty() && hits.front().past_ends) hits.erase(hits.begin());
-    const auto farthest = std::find_if(hits.rbegin(), hits.rend(), [](const Hit& hit) { return !hit.past_ends; });
-    if (farthest == hits.rend()) continue;
-    seen[step] = farthest->wall;  // nothing reaches the top: the farthest, as furniture stands in front
+    hits.erase(hits.begin(), std::find_if(hits.begin(), hits.end(), [](const Hit& hit) { return !hit.past_ends; }));
+    if (hits.empty()) continue;
+    // Nothing reaches the top: the farthest within its ends, as furniture stands in front.
+    seen[step] = std::find_if(hits.rbegin(), hits.rend(), [](const Hit& hit) { return !hit.past_ends; })->wall;
     for (const Hit& hit : hits) {
       const double top = view.top_at(hit.t) - settings.top_margin;
       const double along = walls[hit.wall].direction().dot(hit.t * ray);

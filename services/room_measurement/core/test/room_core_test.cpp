@@ -277,10 +277,11 @@ TEST(RoomMeasurement, AWardrobeInACornerIsNoNotch) {
       {"in the far corner", {-2, 4, -1.5f, 3, -1.2f, 1.3f}, {2.0f, 4, 2.1f, 3, -1.2f, 0.9f}, 6 * 4.5}};
   std::mt19937 random(17);
   for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
     const auto result = measure_room(cast_scan(c.room, {c.wardrobe}, random), RoomSettings{});
-    ASSERT_EQ(result.status, RoomStatus::Ok) << c.name << ": " << result.message;
-    EXPECT_EQ(result.walls.size(), 4u) << c.name << ": " << result.message;
-    EXPECT_NEAR(result.area, c.area, 0.1) << c.name << ": " << result.message;
+    EXPECT_EQ(result.status, RoomStatus::Ok) << result.message;
+    EXPECT_EQ(result.walls.size(), 4u) << result.message;
+    EXPECT_NEAR(result.area, c.area, 0.1) << result.message;
   }
 }
 
@@ -602,12 +603,14 @@ TEST(WallAdjustment, DeviceTermsBeyondThreeSigmasOfTheirPriorsAreNotEstimated) {
   settings.bootstrap = 0;
   const auto walls = scanned_box_walls(0.05, 0.0, 0.0);
   const auto adjusted = adjust_walls(walls, settings);
-  EXPECT_NEAR(adjusted.range_bias, 0.0, 1e-6);  // held
+  EXPECT_TRUE(adjusted.device_held);
+  EXPECT_NEAR(adjusted.range_bias, 0.0, 1e-6);
   AdjustmentSettings walls_alone = settings;
   walls_alone.estimate_device = false;
   const auto alone = adjust_walls(walls, walls_alone);
   for (size_t i = 0; i < 4; ++i) EXPECT_DOUBLE_EQ(adjusted.lengths[i], alone.lengths[i]) << i;
   const auto within = adjust_walls(scanned_box_walls(0.025, 0.0, 0.0), settings);  // 2.5 sigmas: estimated
+  EXPECT_FALSE(within.device_held);
   EXPECT_NEAR(within.range_bias, -0.025, 0.002);
 }
 

@@ -77,6 +77,7 @@ struct RoomResult {
   double area = 0, perimeter = 0;
   double area_sigma = 0;                     // m^2, one sigma
   double range_bias = 0, lever_arm = 0;      // m: the device's errors the wall adjustment estimated
+  bool device_held = false;                  // the adjustment held them at zero (AdjustedWalls::device_held)
   std::optional<double> floor_z, ceiling_z;  // only where seen
   std::string height_note;                   // why there is no ceiling height, when there is none
   size_t points_in = 0, points_valid = 0, points_after_filter = 0, points_after_voxel = 0;

@@ -66,7 +66,9 @@ std::vector<Eigen::Vector3f> long_runs(const WallLine& wall, double gap, double 
 std::vector<WallLine> merge_collinear(std::vector<WallLine> walls, double angle, double same, double tail);
 
 // The wall's profile from every point within `band` of its line, and every point more than
-// `beyond` past it, over its extent and `margin` beyond each end.
+// `beyond` past it, over its extent and `margin` beyond each end. Its heights (base, cell) come
+// from the points within 0.5 m of its ends: farther along, its line may cross lower or higher
+// ground seen through a door.
 WallProfile wall_profile(const WallLine& wall, const std::vector<Eigen::Vector3f>& points, double band, double beyond,
                          double margin);
 
