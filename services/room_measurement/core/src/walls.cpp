@@ -181,7 +181,6 @@ void merge_repeats(std::vector<SeenWall>& order) {
 //   is a wall, and the wall between them is missing (inferred later);
 // - the two faces of furniture in a corner (drop_corner_furniture).
 // False, with `why`, when a corner's faces cannot be told from walls.
-
 bool drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
                     std::vector<SeenWall>& order, bool keep_through_gaps, std::string& why) {
   const double min_sine = std::sin(settings.min_wall_angle_deg * M_PI / 180);
@@ -615,10 +614,7 @@ std::optional<std::vector<SeenWall>> walls_around(const std::vector<WallLine>& w
     }
     order.push_back({static_cast<size_t>(run.wall), first, last});
   }
-  if (order.size() > 1 && order.front().wall == order.back().wall) {
-    order.front().first = order.back().first - 2 * M_PI;
-    order.pop_back();
-  }
+  merge_repeats(order);  // the run over angle 0
   if (!drop_occluders(walls, view, settings, order, keep_through_gaps, why)) return std::nullopt;
   return order;
 }
