@@ -8,6 +8,37 @@ namespace scanbus::cli {
 
 using room_measurement::RoomResult;
 
+namespace {
+
+constexpr double kDegree = M_PI / 180;
+
+nlohmann::json device_json(const room_measurement::DeviceEstimate& device) {
+  nlohmann::json out = {{"state", room_measurement::device_state_name(device.state)}};
+  if (device.state == room_measurement::DeviceEstimate::State::NotEstimated) return out;
+  out["range_bias_m"] = device.range_bias;
+  out["lever_arm_m"] = device.lever_arm;
+  out["pitch_offset_deg"] = device.pitch_offset / kDegree;
+  out["yaw_error_deg"] = device.yaw_error / kDegree;
+  return out;
+}
+
+// One line on the scanner's own errors: applied, or wanted and held (a device to calibrate).
+std::string device_text(const room_measurement::DeviceEstimate& device) {
+  using State = room_measurement::DeviceEstimate::State;
+  if (device.state == State::NotEstimated) return "";
+  char line[256];
+  std::snprintf(
+      line, sizeof(line), "range bias %+.1f cm, lever arm %+.1f cm, pitch offset %+.2f deg, yaw error %.2f deg",
+      device.range_bias * 100, device.lever_arm * 100, device.pitch_offset / kDegree, device.yaw_error / kDegree);
+  if (device.state == State::Applied) return std::string("device corrections applied: ") + line + "\n";
+  return std::string(
+             "device terms not applied, beyond 3 sigmas of their priors (the walls fitted without them): "
+             "the fit wanted ") +
+         line + "\n";
+}
+
+}  // namespace
+
 nlohmann::json room_json(const RoomResult& room) {
   nlohmann::json walls = nlohmann::json::array();
   for (const auto& wall : room.walls) {
@@ -52,6 +83,7 @@ nlohmann::json room_json(const RoomResult& room) {
                         {"points_after_voxel", room.points_after_voxel},
                         {"voxel_overflow", room.voxel_overflow},
                         {"error_histogram", {{"bin_m", room.error_bin}, {"counts", room.error_histogram}}},
+                        {"device", device_json(room.device)},
                         {"elapsed_ms", room.elapsed_ms}};
   if (room.ceiling_height()) out["ceiling_height_m"] = *room.ceiling_height();
   if (room.area_sigma > 0) out["area_sigma_m2"] = room.area_sigma;
@@ -64,7 +96,7 @@ std::string room_text(const RoomResult& room) {
   if (room.status != room_measurement::RoomStatus::Ok) {
     std::snprintf(line, sizeof(line), "room not measured (%s): %s\n", room_measurement::status_name(room.status),
                   room.message.c_str());
-    return line;
+    return line + device_text(room.device);
   }
   for (size_t i = 0; i < room.walls.size(); ++i) {
     const auto& wall = room.walls[i];
@@ -110,7 +142,7 @@ std::string room_text(const RoomResult& room) {
     std::snprintf(line, sizeof(line), " (%zu points, %.1f ms)", room.points_in, room.elapsed_ms);
     text += line;
   }
-  return text + "\n";
+  return text + "\n" + device_text(room.device);
 }
 
 }  // namespace scanbus::cli

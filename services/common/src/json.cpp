@@ -160,7 +160,12 @@ void to_json(json& out, const RoomMeasurement& in) {
          {"points_valid", in.points_valid()},
          {"points_after_filter", in.points_after_filter()},
          {"points_after_voxel", in.points_after_voxel()},
-         {"processing_time", in.processing_time()}};
+         {"processing_time", in.processing_time()},
+         {"device_state", in.device_state()},
+         {"range_bias", in.range_bias()},
+         {"lever_arm", in.lever_arm()},
+         {"pitch_offset", in.pitch_offset()},
+         {"yaw_error", in.yaw_error()}};
 }
 void to_json(json& out, const AssembleRequest& in) {
   out = {{"request_id", in.request_id()},

@@ -58,6 +58,11 @@ scanbus::msg::RoomMeasurement to_message(const RoomResult& result, const std::st
   message.points_after_filter(static_cast<uint32_t>(result.points_after_filter));
   message.points_after_voxel(static_cast<uint32_t>(result.points_after_voxel));
   message.processing_time(result.elapsed_ms / 1000);
+  message.device_state(static_cast<uint8_t>(result.device.state));
+  message.range_bias(result.device.range_bias);
+  message.lever_arm(result.device.lever_arm);
+  message.pitch_offset(result.device.pitch_offset);
+  message.yaw_error(result.device.yaw_error);
   return message;
 }
 
@@ -93,6 +98,9 @@ RoomResult from_message(const scanbus::msg::RoomMeasurement& message) {
   room.points_after_filter = message.points_after_filter();
   room.points_after_voxel = message.points_after_voxel();
   room.elapsed_ms = message.processing_time() * 1000;
+  const uint8_t state = message.device_state();
+  room.device = {state <= 2 ? static_cast<DeviceEstimate::State>(state) : DeviceEstimate::State::NotEstimated,
+                 message.range_bias(), message.lever_arm(), message.pitch_offset(), message.yaw_error()};
   return room;
 }
 

@@ -77,9 +77,11 @@ void adjust(const AdjustmentSettings& settings, const std::vector<Eigen::Vector3
   result.corner_sigmas = adjusted.corner_sigmas;
   result.area = adjusted.area;
   result.area_sigma = adjusted.area_sigma;
-  result.range_bias = adjusted.range_bias;
-  result.lever_arm = adjusted.lever_arm;
-  result.device_held = adjusted.device_held;
+  if (settings.estimate_device) {
+    using State = DeviceEstimate::State;
+    result.device = {adjusted.device_held ? State::Held : State::Applied, adjusted.range_bias, adjusted.lever_arm,
+                     adjusted.pitch_offset, adjusted.yaw_error.norm()};
+  }
 }
 
 // The floor is a horizontal plane among the lowest points, the ceiling among the highest:
@@ -540,6 +542,18 @@ const char* status_name(RoomStatus status) {
       return "walls_do_not_close";
     case RoomStatus::InputError:
       return "input_error";
+  }
+  return "unknown";
+}
+
+const char* device_state_name(DeviceEstimate::State state) {
+  switch (state) {
+    case DeviceEstimate::State::NotEstimated:
+      return "not_estimated";
+    case DeviceEstimate::State::Applied:
+      return "applied";
+    case DeviceEstimate::State::Held:
+      return "held";
   }
   return "unknown";
 }

@@ -288,6 +288,13 @@ bool device_within_priors(const Eigen::VectorXd& x, size_t walls, const Adjustme
   return std::hypot(device[3], device[4]) <= kPriorSigmas * sigmas[3];
 }
 
+void set_device_terms(const Eigen::VectorXd& x, size_t walls, AdjustedWalls& result) {
+  result.range_bias = x[2 * walls];
+  result.lever_arm = x[2 * walls + 1];
+  result.pitch_offset = x[2 * walls + 2];
+  result.yaw_error = {x[2 * walls + 3], x[2 * walls + 4]};
+}
+
 }  // namespace
 
 AdjustedWalls adjust_walls(const std::vector<WallLine>& walls, const AdjustmentSettings& settings) {
@@ -305,6 +312,7 @@ AdjustedWalls adjust_walls(const std::vector<WallLine>& walls, const AdjustmentS
     held.estimate_device = false;
     AdjustedWalls alone = adjust_walls(walls, held);
     alone.device_held = true;
+    set_device_terms(x, count, alone);  // reported, not applied: what the device would need
     return alone;
   }
   const Outline best = outline(walls, x);
@@ -315,10 +323,7 @@ AdjustedWalls adjust_walls(const std::vector<WallLine>& walls, const AdjustmentS
   result.corners = best.corners;
   result.lengths = best.lengths;
   result.area = best.area;
-  result.range_bias = x[2 * count];
-  result.lever_arm = x[2 * count + 1];
-  result.pitch_offset = x[2 * count + 2];
-  result.yaw_error = {x[2 * count + 3], x[2 * count + 4]};
+  set_device_terms(x, count, result);
   result.length_sigmas.assign(count, 0);
   result.corner_sigmas.assign(count, 0);
   if (settings.bootstrap <= 0 || bins < 2) return result;

@@ -34,13 +34,14 @@ RoomResult measured_room() {
   room.points_after_filter = 12000;
   room.points_after_voxel = 9000;
   room.elapsed_ms = 11.5;
+  room.device = {DeviceEstimate::State::Held, 0.064, -0.012, 0.003, 0.024};
   return room;
 }
 
 }  // namespace
 
 // What the service publishes reaches a subscriber whole: the result goes through the CDR bytes
-// on the wire and back (openings with their depth, inferred walls and corners, point counts).
+// on the wire and back (openings with their depth, inferred walls and corners, point counts, the device terms).
 TEST(RoomMessage, TheResultSurvivesTheWire) {
   const RoomResult sent = measured_room();
   builtin_interfaces::msg::Time stamp;
@@ -77,6 +78,11 @@ TEST(RoomMessage, TheResultSurvivesTheWire) {
   EXPECT_EQ(room.points_in, 18560u);
   EXPECT_EQ(room.points_after_voxel, 9000u);
   EXPECT_NEAR(room.elapsed_ms, 11.5, 1e-9);
+  EXPECT_EQ(room.device.state, DeviceEstimate::State::Held);
+  EXPECT_NEAR(room.device.range_bias, 0.064, 1e-12);
+  EXPECT_NEAR(room.device.lever_arm, -0.012, 1e-12);
+  EXPECT_NEAR(room.device.pitch_offset, 0.003, 1e-12);
+  EXPECT_NEAR(room.device.yaw_error, 0.024, 1e-12);
 }
 
 // A room without a ceiling height says why, and the subscriber gets the reason, not a number.

@@ -65,6 +65,17 @@ struct MeasuredWall {
   bool inferred() const { return line.inferred; }  // not seen (walls.hpp, infer_hidden_wall)
 };
 
+// The scanner's own errors as the wall adjustment estimated them (wall_adjustment.hpp): what a
+// user checks the device's calibration against.
+struct DeviceEstimate {
+  enum class State { NotEstimated, Applied, Held };
+  State state = State::NotEstimated;       // Held: beyond 3 sigmas of their priors, not applied (the walls
+                                           // fitted alone); the terms say what the fit wanted
+  double range_bias = 0, lever_arm = 0;    // m
+  double pitch_offset = 0, yaw_error = 0;  // rad; yaw_error the once-per-turn amplitude
+};
+const char* device_state_name(DeviceEstimate::State state);
+
 struct RoomResult {
   RoomStatus status = RoomStatus::Ok;
   std::string message;
@@ -75,9 +86,8 @@ struct RoomResult {
   std::vector<double> corner_sigmas;     // m per corner: one sigma of its distance from the true corner
                                          // (the wall adjustment's; empty without it)
   double area = 0, perimeter = 0;
-  double area_sigma = 0;                     // m^2, one sigma
-  double range_bias = 0, lever_arm = 0;      // m: the device's errors the wall adjustment estimated
-  bool device_held = false;                  // the adjustment held them at zero (AdjustedWalls::device_held)
+  double area_sigma = 0;  // m^2, one sigma
+  DeviceEstimate device;
   std::optional<double> floor_z, ceiling_z;  // only where seen
   std::string height_note;                   // why there is no ceiling height, when there is none
   size_t points_in = 0, points_valid = 0, points_after_filter = 0, points_after_voxel = 0;

@@ -50,7 +50,8 @@ struct AdjustedWalls {
   std::vector<double> corner_sigmas;  // m: one sigma of each corner's distance from where it is
                                       // (the root of its covariance's trace)
   double area = 0, area_sigma = 0;
-  double range_bias = 0, lever_arm = 0;  // m: the corrections estimated (added to the range; along "up")
+  // The device terms estimated; with device_held, what the fit wanted and was not applied.
+  double range_bias = 0, lever_arm = 0;  // m: the corrections (added to the range; along "up")
   double pitch_offset = 0;               // rad, added to the reported pitch
   Eigen::Vector2d yaw_error{0, 0};       // rad: the yaw error's sine and cosine parts (of the reported yaw)
   bool device_held = false;              // estimated beyond 3 sigmas of their priors, the device terms were held at
