@@ -28,8 +28,8 @@ std::string device_text(const room_measurement::DeviceEstimate& device) {
   if (device.state == State::NotEstimated) return "";
   char line[256];
   std::snprintf(
-      line, sizeof(line), "range bias %+.1f cm, lever arm %+.1f cm, pitch offset %+.2f deg, yaw error %.2f deg",
-      device.range_bias * 100, device.lever_arm * 100, device.pitch_offset / kDegree, device.yaw_error / kDegree);
+      line, sizeof(line), "range bias %+.1f mm, lever arm %+.1f mm, pitch offset %+.2f deg, yaw error %.2f deg",
+      device.range_bias * 1000, device.lever_arm * 1000, device.pitch_offset / kDegree, device.yaw_error / kDegree);
   if (device.state == State::Applied) return std::string("device corrections applied: ") + line + "\n";
   return std::string(
              "device terms not applied, beyond 3 sigmas of their priors (the walls fitted without them): "
