@@ -14,12 +14,11 @@ namespace {
 
 using namespace scanbus;
 using scan_matcher::Pose2;
-using scan_matcher::Scan;
 
-std::vector<Scan> room_flight() {
+std::vector<sensor::LaserScan> room_flight() {
   const auto world = test_support::LaserWorld::room();
   std::mt19937 random(3);
-  std::vector<Scan> scans;
+  std::vector<sensor::LaserScan> scans;
   Pose2 pose{-1.5, -0.5, 0.2};
   for (int i = 0; i < 200; ++i) {
     scans.push_back(world.scan(pose, {}, random));
@@ -28,17 +27,16 @@ std::vector<Scan> room_flight() {
   return scans;
 }
 
-std::vector<Scan> mit_csail() {
+std::vector<sensor::LaserScan> mit_csail() {
   const std::string path = std::string(SCANBUS_SOURCE_DIR) + "/../shared/data/freiburg/mit-csail.clf";
-  std::vector<Scan> scans;
+  std::vector<sensor::LaserScan> scans;
   if (!std::filesystem::exists(path)) return scans;
-  for (const auto& record : scan_matcher::read_carmen_log(path))
-    scans.push_back({record.angle_min, record.angle_increment, record.ranges});
+  for (const auto& record : scan_matcher::read_carmen_log(path)) scans.push_back(record.scan);
   return scans;
 }
 
 // Matches the scans in order, starting over with a new matcher at the end.
-void match(benchmark::State& state, const std::vector<Scan>& scans) {
+void match(benchmark::State& state, const std::vector<sensor::LaserScan>& scans) {
   if (scans.empty()) {
     state.SkipWithError("../shared/data/freiburg/mit-csail.clf not found");
     return;

@@ -112,10 +112,10 @@ int run_eval(const EvalOptions& options) {
     std::optional<Pose2> guess;
     if (options.odometry_guess && i > 0) guess = records[i - 1].odometry.inverse() * record.odometry;
     const auto started = std::chrono::steady_clock::now();
-    const MatchResult result = matcher.add_scan({record.angle_min, record.angle_increment, record.ranges}, guess);
+    const MatchResult result = matcher.add_scan(record.scan, guess);
     matching_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     failed += i > 0 && result.quality != MatchQuality::Ok;
-    stamps.push_back(record.stamp);
+    stamps.push_back(record.scan.stamp);
     poses.push_back(result.pose);
     if (progress && (i % 50 == 0 || i + 1 == records.size()))
       std::printf("\rmatching: scan %zu of %zu", i + 1, records.size()), std::fflush(stdout);
@@ -217,8 +217,8 @@ PairCheck check_pair(const ScanMatcher& matcher, const std::vector<LaserRecord>&
                      std::vector<Eigen::Vector2d>* moved_out = nullptr) {
   const auto& a = records[row];
   const auto& b = records[row + 1];
-  const auto reference = matcher.points_of({a.angle_min, a.angle_increment, a.ranges});
-  const auto scan = matcher.points_of({b.angle_min, b.angle_increment, b.ranges});
+  const auto reference = matcher.points_of(a.scan);
+  const auto scan = matcher.points_of(b.scan);
   PairCheck check;
   check.row = row;
   check.match = matcher.align(reference, scan, Pose2{});

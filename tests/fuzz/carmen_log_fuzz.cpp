@@ -8,7 +8,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const scanbus::fuzz::InputFile file(data, size, "clf");
   try {
     for (const auto& record : scanbus::scan_matcher::read_carmen_log(file.path()))
-      scanbus::fuzz::require(std::isfinite(record.stamp) && std::isfinite(record.angle_increment));
+      scanbus::fuzz::require(std::isfinite(record.scan.stamp) && std::isfinite(record.scan.angle_increment));
   } catch (const scanbus::scan_matcher::LogError&) {
   }
   return 0;

@@ -20,7 +20,7 @@ using scan_matcher::Pose2;
 
 namespace {
 
-sensor_msgs::msg::LaserScan laser_scan(const scan_matcher::Scan& scan, double stamp) {
+sensor_msgs::msg::LaserScan laser_scan(const sensor::LaserScan& scan, double stamp) {
   sensor_msgs::msg::LaserScan message;
   message.header().stamp(to_stamp(stamp));
   message.header().frame_id("laser");

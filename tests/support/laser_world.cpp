@@ -5,10 +5,12 @@
 
 namespace scanbus::test_support {
 
-scan_matcher::Scan LaserWorld::scan(const scan_matcher::Pose2& pose, const LaserModel& laser,
-                                    std::mt19937& random) const {
+sensor::LaserScan LaserWorld::scan(const scan_matcher::Pose2& pose, const LaserModel& laser,
+                                   std::mt19937& random) const {
   std::normal_distribution<double> jitter(0, laser.noise);
-  scan_matcher::Scan scan{laser.angle_min, laser.angle_increment, {}};
+  sensor::LaserScan scan;
+  scan.angle_min = laser.angle_min;
+  scan.angle_increment = laser.angle_increment;
   const Eigen::Vector2d origin(pose.x, pose.y);
   for (int i = 0; i < laser.rays; ++i) {
     const double angle = pose.theta + laser.angle_min + i * laser.angle_increment;

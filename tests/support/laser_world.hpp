@@ -27,7 +27,7 @@ class LaserWorld {
   explicit LaserWorld(std::vector<Segment> segments) : segments_(std::move(segments)) {}
 
   // A scan from `pose` (the laser's x axis is the middle ray); no return is +inf.
-  scan_matcher::Scan scan(const scan_matcher::Pose2& pose, const LaserModel& laser, std::mt19937& random) const;
+  sensor::LaserScan scan(const scan_matcher::Pose2& pose, const LaserModel& laser, std::mt19937& random) const;
 
   // A closed polyline's segments.
   static std::vector<Segment> polyline(const std::vector<Eigen::Vector2d>& corners, bool closed);

@@ -10,6 +10,7 @@
 #include "scanbus/clock.hpp"
 #include "scanbus/cloud_assembly/assembler.hpp"
 #include "scanbus/cloud_assembly/elevation_grid.hpp"
+#include "scanbus/laser_scan_message.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/point_cloud.hpp"
 
@@ -122,12 +123,7 @@ class CloudAssembly : public Service {
   }
 
   void receive(const sensor_msgs::msg::LaserScan& message) {
-    LaserScanData scan{to_seconds(message.header().stamp()),
-                       message.angle_min(),
-                       message.angle_increment(),
-                       message.range_min(),
-                       message.range_max(),
-                       message.ranges()};
+    sensor::LaserScan scan = from_laser_scan_message(message);
     if (message.header().frame_id().empty() || !std::isfinite(scan.angle_min) || !std::isfinite(scan.angle_increment)) {
       ++health_.counter("scans_rejected");
       health_.error("scan without a frame or with unusable angles");

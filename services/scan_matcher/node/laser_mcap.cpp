@@ -5,6 +5,7 @@
 #include "LaserScanPubSubTypes.h"
 #include "cdr.hpp"
 #include "scanbus/clock.hpp"
+#include "scanbus/laser_scan_message.hpp"
 #include "scanbus/recorder/mcap_reader.hpp"
 #include "scanbus/recorder/mcap_writer.hpp"
 #include "scanbus/recorder/ros2msg.hpp"
@@ -19,17 +20,8 @@ void write_laser_mcap(const std::string& path, const std::vector<LaserRecord>& r
   const uint16_t channel = TopicChannels(writer).add(topics::kScan.name);
   uint32_t sequence = 0;
   for (const auto& record : records) {
-    sensor_msgs::msg::LaserScan scan;
-    scan.header().stamp(to_stamp(record.stamp));
-    scan.header().frame_id(frame);
-    scan.angle_min(static_cast<float>(record.angle_min));
-    scan.angle_increment(static_cast<float>(record.angle_increment));
-    scan.angle_max(static_cast<float>(
-        record.angle_min + record.angle_increment * (record.ranges.empty() ? 0.0 : record.ranges.size() - 1.0)));
-    scan.range_max(static_cast<float>(record.range_max));
-    scan.ranges(record.ranges);
-    const auto bytes = to_cdr<sensor_msgs::msg::LaserScanPubSubType>(scan);
-    const auto time = static_cast<uint64_t>(std::llround(record.stamp * 1e9));
+    const auto bytes = to_cdr<sensor_msgs::msg::LaserScanPubSubType>(to_laser_scan_message(record.scan, frame));
+    const auto time = static_cast<uint64_t>(std::llround(record.scan.stamp * 1e9));
     writer.write(channel, sequence++, time, time, bytes.data(), bytes.size());
   }
   writer.close();
@@ -41,13 +33,8 @@ std::vector<LaserRecord> read_laser_mcap(const std::string& path) {
   try {
     McapReader(path).read_messages([&](const McapMessage& m, const McapChannel& channel) {
       if (dds_topic_of_ros_topic(channel.topic) != topics::kScan.name) return;
-      const auto scan = from_cdr<sensor_msgs::msg::LaserScanPubSubType>(m.data, m.size);
       LaserRecord record;
-      record.stamp = to_seconds(scan.header().stamp());
-      record.angle_min = scan.angle_min();
-      record.angle_increment = scan.angle_increment();
-      record.range_max = scan.range_max();
-      record.ranges = scan.ranges();
+      record.scan = from_laser_scan_message(from_cdr<sensor_msgs::msg::LaserScanPubSubType>(m.data, m.size));
       records.push_back(std::move(record));
     });
   } catch (const std::runtime_error& error) {  // McapError, undecodable bytes

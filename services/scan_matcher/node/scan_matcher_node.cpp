@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "scanbus/clock.hpp"
+#include "scanbus/laser_scan_message.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/scan_matcher/imu_guess.hpp"
 #include "scanbus/scan_matcher/pl_icp.hpp"
@@ -14,18 +15,15 @@ namespace scanbus::scan_matcher {
 
 namespace {
 
-// The ranges the message itself declares invalid (outside its range_min..range_max, as ROS
-// defines them) become NaN; the matcher's own gating drops them and NaN, inf and zero.
-std::optional<Scan> scan_of(const sensor_msgs::msg::LaserScan& message, std::string& problem) {
+// The message's own range_min..range_max (outside them a range is no return, as ROS defines
+// it) travel with the scan: the matcher's gate applies them beside its own (sensor::kept_points).
+std::optional<sensor::LaserScan> scan_of(const sensor_msgs::msg::LaserScan& message, std::string& problem) {
   if (!std::isfinite(message.angle_increment()) || message.angle_increment() == 0 ||
       !std::isfinite(message.angle_min())) {
     problem = "angle_min or angle_increment not usable";
     return std::nullopt;
   }
-  Scan scan{message.angle_min(), message.angle_increment(), message.ranges()};
-  for (float& range : scan.ranges)
-    if (!(range >= message.range_min() && range <= message.range_max())) range = std::nanf("");
-  return scan;
+  return from_laser_scan_message(message);
 }
 
 scanbus::msg::Pose2D pose_message(const Pose2& pose) {
@@ -85,7 +83,7 @@ class ScanMatcherService : public Service {
 
   void receive(const sensor_msgs::msg::LaserScan& message) {
     std::string problem;
-    const std::optional<Scan> scan = scan_of(message, problem);
+    const std::optional<sensor::LaserScan> scan = scan_of(message, problem);
     if (!scan) {
       health_.error("scan rejected: " + problem);
       ++health_.counter("scans_rejected");

@@ -43,19 +43,6 @@ Eigen::Quaterniond quaternion(const geometry_msgs::msg::Quaternion& q) { return 
 
 }  // namespace
 
-sensor_msgs::msg::LaserScan laser_message(const LaserRecord& r, const std::string& frame) {
-  sensor_msgs::msg::LaserScan scan;
-  scan.header(header(r.stamp, frame));
-  scan.angle_min(static_cast<float>(r.angle_min));
-  scan.angle_increment(static_cast<float>(r.angle_increment));
-  scan.angle_max(
-      static_cast<float>(r.angle_min + r.angle_increment * (r.ranges.empty() ? 0.0 : r.ranges.size() - 1.0)));
-  scan.range_min(static_cast<float>(r.range_min));
-  scan.range_max(static_cast<float>(r.range_max));
-  scan.ranges(r.ranges);
-  return scan;
-}
-
 sensor_msgs::msg::Imu imu_message(const ImuRecord& r, const std::string& frame) {
   sensor_msgs::msg::Imu imu;
   imu.header(header(r.stamp, frame));
@@ -123,7 +110,8 @@ void write_mav_mcap(const std::string& path, const MavLog& log, const MavFrames&
     std::vector<uint8_t> bytes;
     switch (record.kind) {
       case RecordKind::Laser:
-        bytes = to_cdr<sensor_msgs::msg::LaserScanPubSubType>(laser_message(log.lasers[record.index], frames.laser));
+        bytes = to_cdr<sensor_msgs::msg::LaserScanPubSubType>(
+            to_laser_scan_message(log.lasers[record.index], frames.laser));
         break;
       case RecordKind::Imu:
         bytes = to_cdr<sensor_msgs::msg::ImuPubSubType>(imu_message(log.imus[record.index], frames.base_link));

@@ -8,9 +8,9 @@
 
 #include "FluidPressure.h"
 #include "Imu.h"
-#include "LaserScan.h"
 #include "NavSatFix.h"
 #include "PoseStamped.h"
+#include "scanbus/laser_scan_message.hpp"
 #include "scanbus/sensor_replay/mav_log.hpp"
 
 namespace scanbus::sensor_replay {
@@ -19,7 +19,6 @@ struct MavFrames {
   std::string laser = "laser", base_link = "base_link", gps = "gps", map = "map";
 };
 
-sensor_msgs::msg::LaserScan laser_message(const LaserRecord& record, const std::string& frame);
 sensor_msgs::msg::Imu imu_message(const ImuRecord& record, const std::string& frame);
 sensor_msgs::msg::NavSatFix fix_message(const GpsRecord& record, const std::string& frame);
 sensor_msgs::msg::FluidPressure pressure_message(const BaroRecord& record, const std::string& frame);

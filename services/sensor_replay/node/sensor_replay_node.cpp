@@ -121,7 +121,7 @@ class SensorReplay : public Service {
   void publish(const RecordRef& record) {
     switch (record.kind) {
       case RecordKind::Laser:
-        scans_.write(laser_message(data_.lasers[record.index], settings_.frames.laser));
+        scans_.write(to_laser_scan_message(data_.lasers[record.index], settings_.frames.laser));
         ++health_.counter("scans");
         break;
       case RecordKind::Imu:

@@ -20,7 +20,7 @@ void Assembler::add_transform(const std::string& parent, const std::string& chil
   newest_ = std::max(newest_, stamp);
 }
 
-AssemblyReport Assembler::add_scan(const std::string& frame, LaserScanData scan, double now) {
+AssemblyReport Assembler::add_scan(const std::string& frame, sensor::LaserScan scan, double now) {
   newest_ = std::max(newest_, scan.stamp);
   pending_.push_back({frame, std::move(scan)});
   return assemble_ready(now);

@@ -6,18 +6,9 @@
 
 namespace scanbus::cloud_assembly {
 
-std::vector<Eigen::Vector3d> scan_points(const LaserScanData& scan, const ScanGating& gating) {
+std::vector<Eigen::Vector3d> scan_points(const sensor::LaserScan& scan, const sensor::RangeGate& gate) {
   std::vector<Eigen::Vector3d> points;
-  const size_t n = scan.ranges.size();
-  const double middle = scan.angle_min + scan.angle_increment * (static_cast<double>(n) - 1) / 2;
-  const double range_max = std::min(scan.range_max, gating.range_max);
-  for (size_t i = 0; i < n; ++i) {
-    const double range = scan.ranges[i];
-    if (!(range > 0 && range >= scan.range_min && range <= range_max)) continue;
-    const double angle = scan.angle_min + scan.angle_increment * static_cast<double>(i);
-    if (std::abs(angle - middle) > gating.opening / 2 + 1e-9) continue;
-    points.emplace_back(range * std::cos(angle), range * std::sin(angle), 0.0);
-  }
+  for (const Eigen::Vector2d& p : sensor::kept_points(scan, gate)) points.emplace_back(p.x(), p.y(), 0.0);
   return points;
 }
 

@@ -7,7 +7,7 @@ using namespace scanbus::cloud_assembly;
 namespace {
 
 // A downward scan of three rays 1 m long, stamped `stamp`.
-LaserScanData scan_at(double stamp) { return {stamp, -0.1f, 0.1f, 0.05f, 30.0f, {1.0f, 1.0f, 1.0f}}; }
+scanbus::sensor::LaserScan scan_at(double stamp) { return {stamp, -0.1f, 0.1f, 0.05f, 30.0f, {1.0f, 1.0f, 1.0f}}; }
 
 Eigen::Isometry3d up(double z) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();

@@ -17,14 +17,6 @@ namespace {
 using sensor_replay::MavLog;
 using sensor_replay::MavLogError;
 
-cloud_assembly::LaserScanData scan_data(const sensor_replay::LaserRecord& record) {
-  return {record.stamp, record.angle_min, record.angle_increment, record.range_min, record.range_max, record.ranges};
-}
-
-scan_matcher::Scan matcher_scan(const sensor_replay::LaserRecord& record) {
-  return {record.angle_min, record.angle_increment, record.ranges};
-}
-
 // The fused cloud as an elevation grid, and each cell's height against the true ground
 // averaged over the cell.
 void grid_fused_cloud(const FlightEvaluationSettings& settings, FlightEvaluation& result) {
@@ -167,7 +159,7 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
                                 {heights[0], heights[1], heights[2], heights[3]},
                                 pose.clearance.value_or(NAN),
                                 pose.position_sigma.z()});
-      const auto points = cloud_assembly::scan_points(scan_data(log.lasers[found->second]), settings.gating);
+      const auto points = cloud_assembly::scan_points(log.lasers[found->second], settings.gating);
       for (int source = 0; source < sources; ++source) {
         Eigen::Isometry3d body = Eigen::Isometry3d::Identity();
         body.translation() = Eigen::Vector3d(pose.position.x(), pose.position.y(), heights[source]);
@@ -201,7 +193,7 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
         const auto& laser = log.lasers[record.index];
         estimator.add_scan(laser.stamp, laser.angle_min, laser.angle_increment, laser.range_min, laser.range_max,
                            laser.ranges);
-        const auto match = matcher.add_scan(matcher_scan(laser));
+        const auto match = matcher.add_scan(laser);
         const bool ok = match.quality == scan_matcher::MatchQuality::Ok;
         result.matches_failed += !ok && match.quality != scan_matcher::MatchQuality::NoReference;
         std::optional<Eigen::Vector2d> increment;

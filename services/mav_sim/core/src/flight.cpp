@@ -285,7 +285,7 @@ sensor_replay::MavLog simulate_flight(const FlightSettings& settings) {
   for (double t = 0; t < s.duration; t += 1 / s.laser.rate) {
     const BodyState body = scenario_state(s, t);
     const Eigen::Isometry3d laser = Eigen::Translation3d(body.position) * body.orientation * mount;
-    sensor_replay::LaserRecord scan;
+    sensor::LaserScan scan;
     scan.stamp = s.start_stamp + t;
     scan.angle_min = -(rays - 1) * s.laser.step / 2;
     scan.angle_increment = s.laser.step;

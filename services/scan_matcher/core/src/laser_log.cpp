@@ -19,8 +19,8 @@ LaserRecord parse_flaser(std::istringstream& words, const std::string& where) {
   size_t count = 0;
   take(words, count, where, "the number of ranges");
   if (count < 2 || count > 100000) throw LogError(where + ": implausible number of ranges " + std::to_string(count));
-  record.ranges.resize(count);
-  for (auto& range : record.ranges) take(words, range, where, "a range");
+  record.scan.ranges.resize(count);
+  for (auto& range : record.scan.ranges) take(words, range, where, "a range");
   Pose2 corrected;
   take(words, corrected.x, where, "x");
   take(words, corrected.y, where, "y");
@@ -28,11 +28,11 @@ LaserRecord parse_flaser(std::istringstream& words, const std::string& where) {
   take(words, record.odometry.x, where, "odom_x");
   take(words, record.odometry.y, where, "odom_y");
   take(words, record.odometry.theta, where, "odom_theta");
-  take(words, record.stamp, where, "ipc_timestamp");
+  take(words, record.scan.stamp, where, "ipc_timestamp");
   // FLASER is a 180 degree front laser (SICK LMS): -90 to +90 degrees.
-  record.angle_min = -M_PI / 2;
-  record.angle_increment = M_PI / static_cast<double>(count - 1);
-  record.range_max = *std::max_element(record.ranges.begin(), record.ranges.end());
+  record.scan.angle_min = -M_PI / 2;
+  record.scan.angle_increment = M_PI / static_cast<double>(count - 1);
+  record.scan.range_max = *std::max_element(record.scan.ranges.begin(), record.scan.ranges.end());
   return record;
 }
 
@@ -42,16 +42,16 @@ LaserRecord parse_robotlaser(std::istringstream& words, const std::string& where
   double field_of_view = 0, accuracy = 0;
   size_t count = 0, remissions = 0;
   take(words, laser_type, where, "laser_type");
-  take(words, record.angle_min, where, "start_angle");
+  take(words, record.scan.angle_min, where, "start_angle");
   take(words, field_of_view, where, "field_of_view");
-  take(words, record.angle_increment, where, "angular_resolution");
-  take(words, record.range_max, where, "maximum_range");
+  take(words, record.scan.angle_increment, where, "angular_resolution");
+  take(words, record.scan.range_max, where, "maximum_range");
   take(words, accuracy, where, "accuracy");
   take(words, remission_mode, where, "remission_mode");
   take(words, count, where, "num_readings");
   if (count < 2 || count > 100000) throw LogError(where + ": implausible number of ranges " + std::to_string(count));
-  record.ranges.resize(count);
-  for (auto& range : record.ranges) take(words, range, where, "a range");
+  record.scan.ranges.resize(count);
+  for (auto& range : record.scan.ranges) take(words, range, where, "a range");
   take(words, remissions, where, "num_remissions");
   double ignored = 0;
   for (size_t i = 0; i < remissions; ++i) take(words, ignored, where, "a remission");
@@ -60,7 +60,7 @@ LaserRecord parse_robotlaser(std::istringstream& words, const std::string& where
   take(words, record.odometry.y, where, "robot_pose_y");
   take(words, record.odometry.theta, where, "robot_pose_theta");
   for (int i = 0; i < 5; ++i) take(words, ignored, where, "velocities and safety distances");
-  take(words, record.stamp, where, "timestamp");
+  take(words, record.scan.stamp, where, "timestamp");
   return record;
 }
 

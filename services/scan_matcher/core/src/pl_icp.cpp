@@ -108,23 +108,8 @@ struct ScanMatcher::Reference {
 ScanMatcher::ScanMatcher(MatcherSettings settings) : settings_(settings) {}
 ScanMatcher::~ScanMatcher() = default;
 
-std::vector<Eigen::Vector2d> ScanMatcher::points_of(const Scan& scan) const {
-  std::vector<Eigen::Vector2d> points;
-  const double middle = scan.angle_min + scan.angle_increment * (static_cast<double>(scan.ranges.size()) - 1) / 2;
-  // Each ray's direction is the previous one turned by the increment: one sincos per scan
-  // instead of one per ray (a tenth of the matching time); the rounding error after a few
-  // thousand turns stays below 1e-12.
-  const Eigen::Matrix2d turn = Eigen::Rotation2Dd(scan.angle_increment).toRotationMatrix();
-  Eigen::Vector2d direction(std::cos(scan.angle_min), std::sin(scan.angle_min));
-  for (size_t i = 0; i < scan.ranges.size(); ++i, direction = turn * direction) {
-    const double range = scan.ranges[i];
-    // NaN and inf fail these comparisons too.
-    if (!(range >= settings_.range_min && range <= settings_.range_max)) continue;
-    const double angle = scan.angle_min + scan.angle_increment * static_cast<double>(i);
-    if (std::abs(angle - middle) > settings_.opening / 2) continue;
-    points.push_back(range * direction);
-  }
-  return points;
+std::vector<Eigen::Vector2d> ScanMatcher::points_of(const sensor::LaserScan& scan) const {
+  return sensor::kept_points(scan, {settings_.range_min, settings_.range_max, settings_.opening});
 }
 
 MatchResult ScanMatcher::align(const std::vector<Eigen::Vector2d>& reference, const std::vector<Eigen::Vector2d>& scan,
@@ -232,7 +217,7 @@ MatchResult ScanMatcher::align_to(const Reference& reference, const std::vector<
   return result;
 }
 
-MatchResult ScanMatcher::add_scan(const Scan& scan, const std::optional<Pose2>& motion_guess) {
+MatchResult ScanMatcher::add_scan(const sensor::LaserScan& scan, const std::optional<Pose2>& motion_guess) {
   std::vector<Eigen::Vector2d> points = points_of(scan);
   if (keyframes_.empty()) {
     add_keyframe(std::move(points));

@@ -150,9 +150,10 @@ TEST(PlIcpSynthetic, DownwardOverFlatGroundRecoversHeightAndPitch) {
 
 TEST(PlIcp, BadRangesAreDroppedAndTooFewPointsHoldThePose) {
   ScanMatcher matcher;
-  Scan scan{-M_PI / 2,
-            M_PI / 4,
-            {1.0f, std::numeric_limits<float>::quiet_NaN(), 0.0f, std::numeric_limits<float>::infinity(), 45.0f}};
+  scanbus::sensor::LaserScan scan;
+  scan.angle_min = -M_PI / 2;
+  scan.angle_increment = M_PI / 4;
+  scan.ranges = {1.0f, std::numeric_limits<float>::quiet_NaN(), 0.0f, std::numeric_limits<float>::infinity(), 45.0f};
   EXPECT_EQ(matcher.points_of(scan).size(), 1u);  // NaN, zero, inf and beyond 30 m dropped
   matcher.add_scan(scan);
   const MatchResult result = matcher.add_scan(scan);
@@ -170,13 +171,13 @@ TEST(LaserLog, ReadsFlaserAndRobotLaser) {
                                      "0 0 0 0 0 101.5 host 101.6\n");
   const auto records = read_carmen_log(path);
   ASSERT_EQ(records.size(), 2u);
-  EXPECT_EQ(records[0].ranges.size(), 3u);
-  EXPECT_DOUBLE_EQ(records[0].stamp, 100.25);
+  EXPECT_EQ(records[0].scan.ranges.size(), 3u);
+  EXPECT_DOUBLE_EQ(records[0].scan.stamp, 100.25);
   EXPECT_DOUBLE_EQ(records[0].odometry.x, 1.5);  // odometry, not the corrected pose (9 9 9)
-  EXPECT_NEAR(records[0].angle_increment, M_PI / 2, 1e-12);
-  EXPECT_DOUBLE_EQ(records[1].stamp, 101.5);
+  EXPECT_NEAR(records[0].scan.angle_increment, M_PI / 2, 1e-12);
+  EXPECT_DOUBLE_EQ(records[1].scan.stamp, 101.5);
   EXPECT_DOUBLE_EQ(records[1].odometry.y, 5.5);
-  EXPECT_DOUBLE_EQ(records[1].angle_min, -1.57);
+  EXPECT_DOUBLE_EQ(records[1].scan.angle_min, -1.57);
 }
 
 TEST(LaserLog, MalformedLinesAreNamed) {

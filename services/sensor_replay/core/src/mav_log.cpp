@@ -29,8 +29,8 @@ Eigen::Quaterniond read_quaternion(std::istringstream& words, const std::string&
   return q.normalized();
 }
 
-LaserRecord read_laser(std::istringstream& words, const std::string& where) {
-  LaserRecord laser;
+sensor::LaserScan read_laser(std::istringstream& words, const std::string& where) {
+  sensor::LaserScan laser;
   size_t count = 0;
   read_values(words, where, laser.stamp, laser.angle_min, laser.angle_increment, laser.range_min, laser.range_max,
               count);

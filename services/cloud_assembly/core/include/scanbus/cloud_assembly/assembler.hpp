@@ -16,7 +16,7 @@ namespace scanbus::cloud_assembly {
 
 struct AssemblerSettings {
   std::string fixed_frame = "map";  // the cloud's frame
-  ScanGating gating;
+  sensor::RangeGate gating;
   double voxel_size = 0.01;         // m, the continuous cloud's voxels
   size_t max_voxels = 5000000;      // its budget
   double window_age = 600.0;        // s of scans kept for window requests
@@ -53,7 +53,7 @@ class Assembler {
   // `now` (s, a monotonic clock) times how long scans wait for missing frames.
   AssemblyReport assemble_ready(double now);
   // Queues the scan and assembles what is ready.
-  AssemblyReport add_scan(const std::string& frame, LaserScanData scan, double now);
+  AssemblyReport add_scan(const std::string& frame, sensor::LaserScan scan, double now);
 
   // The window's scans stamped in [begin, end], in `frame` (the fixed frame when empty) as
   // the transforms put it at `end`.
@@ -68,7 +68,7 @@ class Assembler {
 
   struct PendingScan {
     std::string frame;
-    LaserScanData scan;
+    sensor::LaserScan scan;
   };
   AssemblerSettings settings_;
   transforms::TransformBuffer buffer_;

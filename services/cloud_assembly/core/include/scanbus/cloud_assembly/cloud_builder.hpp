@@ -11,23 +11,12 @@
 #include <unordered_map>
 #include <vector>
 
+#include "scanbus/sensor/laser_scan.hpp"
+
 namespace scanbus::cloud_assembly {
 
-struct LaserScanData {  // sensor_msgs/LaserScan's geometry
-  double stamp = 0;
-  double angle_min = 0, angle_increment = 0, range_min = 0, range_max = 0;
-  std::vector<float> ranges;
-};
-
-struct ScanGating {
-  double range_max = 30.0;    // m (the MAV paper keeps up to 30 m)
-  double opening = 2 * M_PI;  // rad kept around the middle ray (the paper: 90 degrees)
-};
-
-// The scan's returns in the laser frame (x along angle 0, z = 0). No return (NaN, inf,
-// zero), a range outside the scan's own range_min..range_max or past the gating's, or a ray
-// outside the opening is left out.
-std::vector<Eigen::Vector3d> scan_points(const LaserScanData& scan, const ScanGating& gating);
+// The scan's kept returns (sensor::kept_points) in the laser frame, z = 0.
+std::vector<Eigen::Vector3d> scan_points(const sensor::LaserScan& scan, const sensor::RangeGate& gate);
 
 // Every point ever added, one per voxel (the mean of the points that fell in it), up to a
 // budget of voxels; points that would start a voxel past the budget are counted and dropped.

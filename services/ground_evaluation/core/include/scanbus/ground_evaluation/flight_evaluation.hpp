@@ -32,8 +32,8 @@ scan_matcher::MatcherSettings mav_matcher_settings();
 struct FlightEvaluationSettings {
   scan_matcher::MatcherSettings matcher = mav_matcher_settings();
   pose_estimation::FusionSettings fusion;
-  bool ground_clearance = true;                       // false: the fusion of barometer and scan matcher alone
-  cloud_assembly::ScanGating gating{30.0, M_PI / 2};  // the paper: 30 m, 90 degrees
+  bool ground_clearance = true;                 // false: the fusion of barometer and scan matcher alone
+  sensor::RangeGate gating{0, 30.0, M_PI / 2};  // the paper: 30 m, 90 degrees
   BoxSearchSettings boxes;
   cloud_assembly::ElevationGridSettings elevation;  // the fused cloud's elevation grid
   // The true ground's height at (x, y), none where a point is not scored (near an edge); empty

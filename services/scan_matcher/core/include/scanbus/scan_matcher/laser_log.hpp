@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "scanbus/scan_matcher/pose2.hpp"
+#include "scanbus/sensor/laser_scan.hpp"
 
 namespace scanbus::scan_matcher {
 
@@ -16,12 +17,8 @@ class LogError : public std::runtime_error {
 };
 
 struct LaserRecord {
-  double stamp = 0;            // ipc timestamp, s: what relation files refer to
-  double angle_min = 0;        // rad
-  double angle_increment = 0;  // rad
-  double range_max = 0;        // m
-  std::vector<float> ranges;   // m
-  Pose2 odometry;              // raw wheel odometry (never the corrected pose: that is another SLAM's result)
+  sensor::LaserScan scan;  // stamped with the ipc timestamp, s: what relation files refer to
+  Pose2 odometry;          // raw wheel odometry (never the corrected pose: that is another SLAM's result)
 };
 
 // Every laser line of a CARMEN log; other lines are skipped. Throws LogError naming the

@@ -15,13 +15,9 @@
 
 #include "scanbus/config.hpp"
 #include "scanbus/scan_matcher/pose2.hpp"
+#include "scanbus/sensor/laser_scan.hpp"
 
 namespace scanbus::scan_matcher {
-
-struct Scan {
-  double angle_min = 0, angle_increment = 0;
-  std::vector<float> ranges;  // m
-};
 
 struct MatcherSettings {
   double range_min = 0.05;          // m
@@ -78,10 +74,10 @@ class ScanMatcher {
   // Matches against the keyframe. `motion_guess` is the expected motion since the previous
   // scan (e.g. from odometry); without it the previous increment is assumed again. A
   // failed match holds the pose (or follows the guess when one was given).
-  MatchResult add_scan(const Scan& scan, const std::optional<Pose2>& motion_guess = std::nullopt);
+  MatchResult add_scan(const sensor::LaserScan& scan, const std::optional<Pose2>& motion_guess = std::nullopt);
 
   const Pose2& pose() const { return pose_; }
-  std::vector<Eigen::Vector2d> points_of(const Scan& scan) const;
+  std::vector<Eigen::Vector2d> points_of(const sensor::LaserScan& scan) const;
 
   // One PL-ICP alignment of `scan` to `reference` from `guess` (the scan's pose in the
   // reference frame); for BacktransformLaserScan and tests.

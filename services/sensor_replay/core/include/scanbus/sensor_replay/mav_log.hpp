@@ -10,17 +10,13 @@
 #include <string>
 #include <vector>
 
+#include "scanbus/sensor/laser_scan.hpp"
+
 namespace scanbus::sensor_replay {
 
 class MavLogError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
-};
-
-struct LaserRecord {  // LASER: one scan, ROS LaserScan conventions (no return: +inf)
-  double stamp = 0;
-  double angle_min = 0, angle_increment = 0, range_min = 0, range_max = 0;
-  std::vector<float> ranges;
 };
 
 struct ImuRecord {  // IMU: attitude of base_link in the map frame
@@ -50,7 +46,7 @@ struct MavLog {
   // laser_mount (x y z roll pitch yaw of the laser in base_link, rad), boxes (width length
   // height of each box on the ground, m), scenario (number).
   std::map<std::string, std::vector<double>> meta;
-  std::vector<LaserRecord> lasers;
+  std::vector<sensor::LaserScan> lasers;  // LASER: ROS LaserScan conventions (no return: +inf)
   std::vector<ImuRecord> imus;
   std::vector<GpsRecord> fixes;
   std::vector<BaroRecord> baros;
