@@ -80,7 +80,7 @@ void BM_PoseEstimatorScan(benchmark::State& state) {
     for (size_t i = 0; i < ranges.size(); ++i)
       ranges[i] =
           static_cast<float>(height_at(t) / std::cos((static_cast<double>(i) - 180) * kStep) + 0.02 * gauss(random));
-    estimator.add_scan(t, -M_PI / 4, kStep, 0.1, 30, ranges);
+    estimator.add_scan({t, -M_PI / 4, kStep, 0.1, 30, ranges});
     estimator.add_match(t, Eigen::Vector2d(height_at(t - 1 / 30.0) - height_at(t), 0));
     benchmark::DoNotOptimize(estimator.take_ready());
     ++k;

@@ -9,7 +9,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
 cmake --install "$build" --prefix "$work/prefix" > "$work/install.log"
-for header in config.hpp room_measurement/room_measurement.hpp cloud_io/cloud_files.hpp; do
+for header in config.hpp room_measurement/room_measurement.hpp cloud_io/cloud_files.hpp sensor/laser_scan.hpp; do
   [ -f "$work/prefix/include/scanbus/$header" ] || { echo "FAIL: $header not installed"; exit 1; }
 done
 if [ -e "$work/prefix/include/scanbus/dds.hpp" ]; then echo "FAIL: a DDS header was installed"; exit 1; fi

@@ -11,6 +11,7 @@
 #include "scanbus/child_process.hpp"
 #include "scanbus/clock.hpp"
 #include "scanbus/dds.hpp"
+#include "scanbus/laser_scan_message.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/typed_topics.hpp"
 
@@ -20,17 +21,11 @@ using scan_matcher::Pose2;
 
 namespace {
 
-sensor_msgs::msg::LaserScan laser_scan(const sensor::LaserScan& scan, double stamp) {
-  sensor_msgs::msg::LaserScan message;
-  message.header().stamp(to_stamp(stamp));
-  message.header().frame_id("laser");
-  message.angle_min(static_cast<float>(scan.angle_min));
-  message.angle_increment(static_cast<float>(scan.angle_increment));
-  message.angle_max(static_cast<float>(scan.angle_min + scan.angle_increment * (scan.ranges.size() - 1)));
-  message.range_min(0.05f);
-  message.range_max(30.0f);
-  message.ranges(scan.ranges);
-  return message;
+sensor_msgs::msg::LaserScan laser_scan(sensor::LaserScan scan, double stamp) {
+  scan.stamp = stamp;
+  scan.range_min = 0.05;
+  scan.range_max = 30;
+  return to_laser_scan_message(scan, "laser");
 }
 
 }  // namespace

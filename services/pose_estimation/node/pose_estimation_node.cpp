@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "scanbus/clock.hpp"
+#include "scanbus/laser_scan_message.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/pose_estimation/pose_estimator.hpp"
 
@@ -139,8 +140,7 @@ class PoseEstimation : public Service {
       return;
     }
     std::lock_guard<std::mutex> lock(mutex_);
-    estimator_.add_scan(to_seconds(scan.header().stamp()), scan.angle_min(), scan.angle_increment(), scan.range_min(),
-                        scan.range_max(), scan.ranges());
+    estimator_.add_scan(from_laser_scan_message(scan));
     publish_ready();
   }
 

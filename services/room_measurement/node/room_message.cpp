@@ -7,6 +7,12 @@
 
 namespace scanbus::room_measurement {
 
+// DeviceEstimate::State travels as its value: the IDL's constants in the same order.
+namespace constants = scanbus::msg::RoomMeasurement_Constants;
+static_assert(static_cast<uint8_t>(DeviceEstimate::State::NotEstimated) == constants::DEVICE_NOT_ESTIMATED);
+static_assert(static_cast<uint8_t>(DeviceEstimate::State::Applied) == constants::DEVICE_APPLIED);
+static_assert(static_cast<uint8_t>(DeviceEstimate::State::Held) == constants::DEVICE_HELD);
+
 uint32_t wall_colour(size_t index) {
   static const uint32_t kPalette[] = {0xE6194B, 0x3CB44B, 0x4363D8, 0xF58231, 0x911EB4,
                                       0x42D4F4, 0xF032E6, 0x9A6324, 0x469990, 0x808000};
@@ -99,8 +105,9 @@ RoomResult from_message(const scanbus::msg::RoomMeasurement& message) {
   room.points_after_voxel = message.points_after_voxel();
   room.elapsed_ms = message.processing_time() * 1000;
   const uint8_t state = message.device_state();
-  room.device = {state <= 2 ? static_cast<DeviceEstimate::State>(state) : DeviceEstimate::State::NotEstimated,
-                 message.range_bias(), message.lever_arm(), message.pitch_offset(), message.yaw_error()};
+  room.device = {
+      state <= constants::DEVICE_HELD ? static_cast<DeviceEstimate::State>(state) : DeviceEstimate::State::NotEstimated,
+      message.range_bias(), message.lever_arm(), message.pitch_offset(), message.yaw_error()};
   return room;
 }
 

@@ -4,7 +4,6 @@
 
 #include "LaserScanPubSubTypes.h"
 #include "cdr.hpp"
-#include "scanbus/clock.hpp"
 #include "scanbus/laser_scan_message.hpp"
 #include "scanbus/recorder/mcap_reader.hpp"
 #include "scanbus/recorder/mcap_writer.hpp"

@@ -3,14 +3,12 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
-#include <limits>
 
 namespace scanbus::sensor {
 
 std::vector<Eigen::Vector2d> kept_points(const LaserScan& scan, const RangeGate& gate) {
   const double low = std::max(scan.range_min, gate.range_min);
-  const double high = std::min(scan.range_max > 0 ? scan.range_max : std::numeric_limits<double>::infinity(),
-                               gate.range_max);
+  const double high = std::min(scan.range_max, gate.range_max);
   const double middle = scan.middle_angle(), half_opening = gate.opening / 2 + 1e-9;
   // Each ray's direction is the previous one turned by the increment: one sincos per scan
   // instead of one per ray (a tenth of the scan matcher's time); the rounding error after a

@@ -41,6 +41,9 @@ TEST(RangeGate, TheGatesLimitsAndOpeningApplyOnTopOfTheScans) {
   ASSERT_EQ(kept.size(), 3u);
   EXPECT_NEAR(kept[1].x(), 3, 1e-12);
   LaserScan unlimited = five_rays({1, 2, 3, 4, 50});
-  unlimited.range_max = 0;  // no limit given by the source: the gate's 30 m holds
+  unlimited.range_max = std::numeric_limits<double>::infinity();  // no limit given: the gate's 30 m holds
   EXPECT_EQ(kept_points(unlimited, RangeGate{}).size(), 4u);
+  LaserScan unusable = five_rays({1, 2, 3, 4, 5});
+  unusable.range_max = std::nan("");  // a message's limit that is no number keeps nothing
+  EXPECT_TRUE(kept_points(unusable, RangeGate{}).empty());
 }

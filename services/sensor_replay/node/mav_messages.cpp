@@ -11,6 +11,7 @@
 #include "PoseStampedPubSubTypes.h"
 #include "cdr.hpp"
 #include "scanbus/clock.hpp"
+#include "scanbus/laser_scan_message.hpp"
 #include "scanbus/recorder/mcap_reader.hpp"
 #include "scanbus/recorder/mcap_writer.hpp"
 #include "scanbus/recorder/ros2msg.hpp"
@@ -141,9 +142,7 @@ MavLog read_mav_mcap(const std::string& path) {
     reader.read_messages([&](const McapMessage& m, const McapChannel& channel) {
       const std::string topic = dds_topic_of_ros_topic(channel.topic);
       if (topic == topics::kScan.name) {
-        const auto scan = from_cdr<sensor_msgs::msg::LaserScanPubSubType>(m.data, m.size);
-        log.lasers.push_back({to_seconds(scan.header().stamp()), scan.angle_min(), scan.angle_increment(),
-                              scan.range_min(), scan.range_max(), scan.ranges()});
+        log.lasers.push_back(from_laser_scan_message(from_cdr<sensor_msgs::msg::LaserScanPubSubType>(m.data, m.size)));
       } else if (topic == topics::kImu.name) {
         const auto imu = from_cdr<sensor_msgs::msg::ImuPubSubType>(m.data, m.size);
         log.imus.push_back({to_seconds(imu.header().stamp()), quaternion(imu.orientation())});

@@ -10,7 +10,6 @@
 #include "Imu.h"
 #include "NavSatFix.h"
 #include "PoseStamped.h"
-#include "scanbus/laser_scan_message.hpp"
 #include "scanbus/sensor_replay/mav_log.hpp"
 
 namespace scanbus::sensor_replay {

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "mav_messages.hpp"
+#include "scanbus/laser_scan_message.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/replay_pacer.hpp"
 

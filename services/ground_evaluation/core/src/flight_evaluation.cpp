@@ -191,8 +191,7 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
         break;
       case sensor_replay::RecordKind::Laser: {
         const auto& laser = log.lasers[record.index];
-        estimator.add_scan(laser.stamp, laser.angle_min, laser.angle_increment, laser.range_min, laser.range_max,
-                           laser.ranges);
+        estimator.add_scan(laser);
         const auto match = matcher.add_scan(laser);
         const bool ok = match.quality == scan_matcher::MatchQuality::Ok;
         result.matches_failed += !ok && match.quality != scan_matcher::MatchQuality::NoReference;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "scanbus/atmosphere.hpp"
 #include "scanbus/pose_estimation/laser_height.hpp"
@@ -104,18 +105,13 @@ void PoseEstimator::add_match(double stamp, std::optional<Eigen::Vector2d> incre
   newest_input_ = std::max(newest_input_, stamp);
 }
 
-void PoseEstimator::add_scan(double stamp, double angle_min, double angle_increment, double range_min, double range_max,
-                             const std::vector<float>& ranges) {
+void PoseEstimator::add_scan(const sensor::LaserScan& scan) {
   if (!settings_.ground_clearance) return;
+  const double stamp = scan.stamp;
   if (previous_ && stamp <= previous_->first) return;  // its match is gone already
+  const sensor::RangeGate every_ray{0, std::numeric_limits<double>::infinity(), 2 * M_PI};
   std::vector<Eigen::Vector3d> points;
-  points.reserve(ranges.size());
-  for (size_t i = 0; i < ranges.size(); ++i) {
-    const double range = ranges[i];
-    if (!(range >= range_min && range <= range_max)) continue;  // NaN and inf fail too
-    const double angle = angle_min + angle_increment * static_cast<double>(i);
-    points.emplace_back(range * std::cos(angle), range * std::sin(angle), 0.0);
-  }
+  for (const Eigen::Vector2d& p : sensor::kept_points(scan, every_ray)) points.emplace_back(p.x(), p.y(), 0.0);
   scans_[stamp] = std::move(points);
   // Bounded without matches: a match never waits longer than max_wait.
   scans_.erase(scans_.begin(), scans_.lower_bound(stamp - settings_.max_wait - 1));

@@ -317,14 +317,14 @@ TEST(PoseEstimator, OnceScansComeAMatchWaitsForItsOwn) {
   }
   std::vector<float> flat;
   for (int i = 0; i <= 360; ++i) flat.push_back(static_cast<float>(2.9 / std::cos((i - 180) * 0.25 * M_PI / 180)));
-  estimator.add_scan(0.0, -M_PI / 4, 0.25 * M_PI / 180, 0.1, 30, flat);
+  estimator.add_scan({0.0, -M_PI / 4, 0.25 * M_PI / 180, 0.1, 30, flat});
   estimator.add_match(0.0, std::nullopt);
   estimator.add_match(0.05, std::nullopt);
   auto poses = estimator.take_ready();
   ASSERT_EQ(poses.size(), 1u);  // the second waits for its scan
   ASSERT_TRUE(poses[0].clearance.has_value());
   EXPECT_NEAR(*poses[0].clearance, 3.0, 1e-3);
-  estimator.add_scan(0.05, -M_PI / 4, 0.25 * M_PI / 180, 0.1, 30, std::vector<float>(361, NAN));  // no returns
+  estimator.add_scan({0.05, -M_PI / 4, 0.25 * M_PI / 180, 0.1, 30, std::vector<float>(361, NAN)});  // no returns
   poses = estimator.take_ready();
   ASSERT_EQ(poses.size(), 1u);
   EXPECT_FALSE(poses[0].clearance.has_value());

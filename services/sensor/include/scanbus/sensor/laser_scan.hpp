@@ -5,17 +5,18 @@
 #include <Eigen/Core>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace scanbus::sensor {
 
 // sensor_msgs/LaserScan's geometry. A ray with no return holds NaN, inf, zero or a range
-// outside the scan's own range_min..range_max (range_max 0: the source gives no limit).
+// outside the scan's own range_min..range_max (limits that are not numbers keep no ray).
 struct LaserScan {
-  double stamp = 0;                           // s
-  double angle_min = 0, angle_increment = 0;  // rad
-  double range_min = 0, range_max = 0;        // m
-  std::vector<float> ranges;                  // m
+  double stamp = 0;                                                           // s
+  double angle_min = 0, angle_increment = 0;                                  // rad
+  double range_min = 0, range_max = std::numeric_limits<double>::infinity();  // m (inf: no limit given)
+  std::vector<float> ranges;                                                  // m
 
   double angle(size_t ray) const { return angle_min + angle_increment * static_cast<double>(ray); }
   double middle_angle() const { return angle_min + angle_increment * (static_cast<double>(ranges.size()) - 1) / 2; }

@@ -18,6 +18,7 @@
 #include "scanbus/config.hpp"
 #include "scanbus/pose_estimation/height_fusion.hpp"
 #include "scanbus/pose_estimation/laser_height.hpp"
+#include "scanbus/sensor/laser_scan.hpp"
 #include "scanbus/transforms/transform_buffer.hpp"
 
 namespace scanbus::pose_estimation {
@@ -59,10 +60,9 @@ class PoseEstimator {
   // match failed.
   void add_match(double stamp, std::optional<Eigen::Vector2d> increment);
 
-  // A scan, for the ground it sees (under the match with the same stamp). Ranges outside
-  // [range_min, range_max] are no returns.
-  void add_scan(double stamp, double angle_min, double angle_increment, double range_min, double range_max,
-                const std::vector<float>& ranges);
+  // A scan, for the ground it sees (under the match with the same stamp): its returns as
+  // sensor::kept_points keeps them, every ray.
+  void add_scan(const sensor::LaserScan& scan);
 
   // Poses of the results that became ready, oldest first; with `all`, of every result
   // (the input has ended).

@@ -55,7 +55,7 @@ struct AdjustedWalls {
   double pitch_offset = 0;               // rad, added to the reported pitch
   Eigen::Vector2d yaw_error{0, 0};       // rad: the yaw error's sine and cosine parts (of the reported yaw)
   bool device_held = false;              // estimated beyond 3 sigmas of their priors, the device terms were held at
-                                         // zero and the walls fitted alone (the priors in the sigmas)
+                                         // zero in the fit and the walls fitted alone (the priors in the sigmas)
 };
 
 // `walls` in room order with their inliers; an inferred wall (no inliers) is held where it was
