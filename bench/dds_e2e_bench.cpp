@@ -29,8 +29,8 @@
 #include "PointCloud2PubSubTypes.h"
 #include "protocol.h"
 #include "room_cloud.hpp"
-#include "scanbus/child_process.hpp"
 #include "scanbus/clock.hpp"
+#include "scanbus/launch/system.hpp"
 #include "scanbus/point_cloud.hpp"
 #include "scanbus/service.hpp"
 #include "scanbus/sim/pty_device.hpp"
@@ -142,8 +142,11 @@ json child_result(const ChildProcess& child) {
   return json::parse(last);
 }
 
-std::string temporary_path(const std::string& name) {
-  return "/tmp/scanbus_e2e_" + std::to_string(getpid()) + "_" + name;
+// The children's configs and logs, beside the scanbus command this benchmark was built with.
+launch::System children() {
+  const std::string self = own_executable();
+  return launch::System({self.substr(0, self.rfind('/')) + "/../services/cli/scanbus",
+                         "/tmp/scanbus_e2e_" + std::to_string(getpid()), dds_settings()});
 }
 
 json percentiles(std::vector<double> values) {
@@ -210,18 +213,17 @@ int latency(const std::string& mode, int revolutions) {
     arrived.notify_all();
   });
   Device device;
-  const std::string config = temporary_path("scanner_io.yaml");
-  std::ofstream(config) << "scanner_io:\n  port: " << device.path() << "\n  scans: 0\nservice:\n  log_level: warn\n";
-  const std::string dir = own_executable().substr(0, own_executable().rfind('/'));
-  ChildProcess child =
-      mode == "scanbus"
-          ? ChildProcess(dir + "/../services/scanner_io/scanbus_scanner_io", {"--config", config},
-                         temporary_path("scanner_io.log"))
-          : ChildProcess(own_executable(), {"relay", device.path(), std::to_string(kMeasurementsPerRevolution)},
-                         temporary_path("relay.log"));
-  if (!wait_until([&] { return reader.matched_writers() > 0; }, std::chrono::seconds(20)))
-    throw std::runtime_error(child.name() + " did not publish " + kScanCloudTopic + " within 20 s (see " +
-                             child.log_path() + ")");
+  launch::System system = children();
+  launch::ServiceConfig config;
+  config.log_level = "warn";
+  config.settings["port"] = device.path();
+  config.settings["scans"] = 0;
+  ChildProcess& child =
+      mode == "scanbus" ? system.start("scanner_io", config)
+                        : system.start_program("relay", own_executable(),
+                                               {"relay", device.path(), std::to_string(kMeasurementsPerRevolution)});
+  system.wait_until([&] { return reader.matched_writers() > 0; }, 20,
+                    child.name() + " did not publish " + kScanCloudTopic);
   device.hello();
   std::vector<double> latencies;
   const int warm_up = 20;
@@ -230,7 +232,7 @@ int latency(const std::string& mode, int revolutions) {
     const uint32_t pitch = 4200 + 300 * index;
     device.revolution(pitch);
     std::this_thread::sleep_for(std::chrono::milliseconds(15));  // as a device: the lap's end comes after its lines
-    child.expect_running();
+    system.check();
     std::unique_lock<std::mutex> lock(mutex);
     const uint64_t expected = clouds + 1;
     lock.unlock();
@@ -249,7 +251,6 @@ int latency(const std::string& mode, int revolutions) {
   }
   std::cout << json{{"mode", mode}, {"points", kMeasurementsPerRevolution}, {"latency", percentiles(latencies)}}
             << std::endl;
-  std::remove(config.c_str());
   return 0;
 }
 
@@ -279,7 +280,9 @@ int relay(const std::string& port_path, uint32_t points) {
 // ---- throughput: this process publishes, a `subscribe` child receives ----
 
 int throughput(const std::string& mode, uint32_t points, double seconds) {
-  ChildProcess subscriber(own_executable(), {"subscribe", mode}, temporary_path("subscribe.log"));
+  launch::System system = children();
+  ChildProcess& subscriber =
+      system.start_program("subscribe", own_executable(), {"subscribe", mode}, launch::Lifetime::RunsToEnd);
   const std::vector<CloudPoint> source = room_points(points);
   const auto deadline = [&](Clock::time_point start) {
     return Clock::now() - start < std::chrono::duration<double>(seconds);

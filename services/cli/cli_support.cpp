@@ -5,12 +5,6 @@
 
 namespace scanbus::cli {
 
-void DdsOptions::export_to_children() const {
-  setenv("SCANBUS_DOMAIN_ID", std::to_string(domain).c_str(), 1);
-  if (!profile_file.empty()) setenv("SCANBUS_DDS_PROFILE_FILE", profile_file.c_str(), 1);
-  setenv("SCANBUS_DDS_PROFILE", profile.c_str(), 1);
-}
-
 void add_dds_options(CLI::App& command, DdsOptions& options) {
   command
       .add_option("--dds-profile", options.profile_file,

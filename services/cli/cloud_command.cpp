@@ -12,7 +12,7 @@
 #include <optional>
 
 #include "cloud_png.hpp"
-#include "cloud_request.hpp"
+#include "cloud_window_client.hpp"
 #include "commands.hpp"
 #include "scanbus/clock.hpp"
 #include "scanbus/cloud_assembly/elevation_grid.hpp"
@@ -53,9 +53,10 @@ int run_save(const SaveOptions& options) {
   StopSignal::install();
   Participant participant(options.dds.settings(), "scanbus/cloud");
   std::string problem = "no sample on " + options.topic + " within " + std::to_string(options.timeout) + " s";
-  const auto cloud = options.window.empty() ? latest_cloud(participant, options)
-                                            : request_window_cloud(participant, options.window[0], options.window[1],
-                                                                   options.timeout, problem);
+  const auto cloud = options.window.empty()
+                         ? latest_cloud(participant, options)
+                         : cloud_assembly::request_window_cloud(participant, options.window[0], options.window[1],
+                                                                options.timeout, problem);
   if (!cloud) {
     std::cerr << "scanbus cloud save: " << problem << "\n";
     return 1;

@@ -19,8 +19,6 @@ struct DdsOptions {
   std::string profile = "localhost";  // participant profile name in that file
 
   DdsSettings settings() const { return {profile_file, profile, domain}; }
-  // Into the environment, so services started from here read the same domain and profile.
-  void export_to_children() const;
 };
 void add_dds_options(CLI::App& command, DdsOptions& options);
 

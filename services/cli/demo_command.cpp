@@ -10,10 +10,11 @@
 #include "cloud_png.hpp"
 #include "commands.hpp"
 #include "floor_plan.hpp"
-#include "mav_flight.hpp"
 #include "room_report.hpp"
-#include "room_scan.hpp"
+#include "scanbus/child_process.hpp"
 #include "scanbus/cloud_io/cloud_files.hpp"
+#include "scanbus/launch/mav_flight.hpp"
+#include "scanbus/launch/room_scan.hpp"
 #include "scanbus/room_measurement/room_message.hpp"
 
 namespace scanbus::cli {
@@ -30,16 +31,17 @@ struct DemoOptions {
 };
 
 // The MAV paper's scenario IV through the services: poses and cloud back over DDS.
-MavFlightResult fly_mav(const DemoOptions& options) {
-  MavFlightOptions flight;
-  flight.dds = options.dds;
+launch::MavFlightResult fly_mav(const DemoOptions& options) {
+  launch::MavFlightOptions flight;
+  flight.executable = own_executable();
+  flight.dds = options.dds.settings();
   flight.rate = options.mav_rate;
   flight.work_dir = options.out + "/mav";
   flight.progress = !options.json && isatty(STDOUT_FILENO);
-  return run_mav_flight(flight);
+  return launch::run_mav_flight(flight);
 }
 
-nlohmann::json mav_json(const MavFlightResult& mav, const std::vector<std::string>& files) {
+nlohmann::json mav_json(const launch::MavFlightResult& mav, const std::vector<std::string>& files) {
   nlohmann::json json{{"scans", mav.scans},
                       {"poses", mav.poses},
                       {"height_rmse_m", {{"fused", mav.fused_rmse}, {"barometer", mav.barometer_rmse}}},
@@ -54,15 +56,16 @@ nlohmann::json mav_json(const MavFlightResult& mav, const std::vector<std::strin
 
 int run_demo(const DemoOptions& options) {
   std::filesystem::create_directories(options.out);
-  RoomScanOptions scan;
-  scan.dds = options.dds;
+  launch::RoomScanOptions scan;
+  scan.executable = own_executable();
+  scan.dds = options.dds.settings();
   scan.speed = options.speed;
   scan.resolution = 1;  // the thesis's usual setting: 20 RPM
   scan.scans = 3;       // interleaved by eq. 4.9: one scan is too sparse for the histogram filter
   scan.measure = true;
   scan.work_dir = options.out;
   scan.progress = !options.json && isatty(STDOUT_FILENO);
-  const RoomScanResult result = run_room_scan(scan);
+  const launch::RoomScanResult result = launch::run_room_scan(scan);
 
   Eigen::Vector3f low = result.points.front().position, high = low;
   for (const auto& point : result.points) {
@@ -94,7 +97,7 @@ int run_demo(const DemoOptions& options) {
                       {"files", {pcd, png, plan, drawing}}};
   bool mav_ok = true;
   if (options.mav) {
-    const MavFlightResult mav = fly_mav(options);
+    const launch::MavFlightResult mav = fly_mav(options);
     std::vector<CloudPoint> points;
     for (const auto& p : mav.cloud) points.push_back({p, 0.0f});
     const std::string mav_pcd = options.out + "/mav_cloud.pcd", top = options.out + "/mav_top.png",

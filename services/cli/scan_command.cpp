@@ -4,8 +4,9 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "room_scan.hpp"
+#include "scanbus/child_process.hpp"
 #include "scanbus/cloud_io/cloud_files.hpp"
+#include "scanbus/launch/room_scan.hpp"
 #include "scanbus/sim/scanner_sim.hpp"
 
 namespace scanbus::cli {
@@ -13,7 +14,8 @@ namespace scanbus::cli {
 namespace {
 
 struct ScanOptions {
-  RoomScanOptions scan;
+  launch::RoomScanOptions scan;
+  DdsOptions dds;
   std::string out = "out/scan.pcd";
   bool json = false;
 };
@@ -23,7 +25,9 @@ int run_scan(ScanOptions options) {
   options.scan.work_dir = out.has_parent_path() ? out.parent_path().string() : ".";
   std::filesystem::create_directories(options.scan.work_dir);
   options.scan.progress = !options.json && isatty(STDOUT_FILENO);
-  const RoomScanResult result = run_room_scan(options.scan);
+  options.scan.executable = own_executable();
+  options.scan.dds = options.dds.settings();
+  const launch::RoomScanResult result = launch::run_room_scan(options.scan);
   cloud_io::write_pcd(options.out, result.points);
   if (options.json) {
     std::cout << nlohmann::json{{"points", result.points.size()},
@@ -52,7 +56,7 @@ void add_scan_command(CLI::App& app, int& exit_code) {
       ->check(CLI::Range(0, 2));
   command->add_option("--timeout", options.scan.timeout, "Give up after this many seconds")->check(CLI::PositiveNumber);
   command->add_flag("--json", options.json, "Print the result as one JSON object, no progress");
-  add_dds_options(*command, options.scan.dds);
+  add_dds_options(*command, options.dds);
   on_run(*command, exit_code, [] { return run_scan(options); });
 }
 

@@ -9,8 +9,8 @@
 #include <set>
 #include <thread>
 
-#include "scanbus/child_process.hpp"
 #include "scanbus/clock.hpp"
+#include "scanbus/launch/system.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/point_cloud.hpp"
 #include "scanbus/service.hpp"
@@ -62,11 +62,12 @@ std::optional<typename PubSubType::type> first_sample(Participant& participant, 
 }  // namespace
 
 TEST(RoomService, MeasuresAScanAndLatchesTheResult) {
-  setenv("SCANBUS_DOMAIN_ID", "83", 1);
   char dir[] = "/tmp/scanbus_room_service_XXXXXX";
   const std::string work = mkdtemp(dir);
-  std::ofstream(work + "/room.yaml") << "room_measurement:\n  scans: 1\n";
-  ChildProcess service(SCANBUS_CLI, {"run", "room_measurement", "--config", work + "/room.yaml"}, work + "/room.log");
+  launch::System system({SCANBUS_CLI, work, {"", "localhost", 83}});
+  launch::ServiceConfig config;
+  config.settings["scans"] = 1;
+  ChildProcess& service = system.start("room_measurement", config);
 
   Participant participant(DdsSettings{"", "localhost", 83}, "scanbus/test_room");
   Writer<sensor_msgs::msg::PointCloud2PubSubType> scans(participant, topics::kScannerScanCloud);

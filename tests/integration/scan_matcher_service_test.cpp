@@ -8,10 +8,10 @@
 #include <thread>
 
 #include "laser_world.hpp"
-#include "scanbus/child_process.hpp"
 #include "scanbus/clock.hpp"
 #include "scanbus/dds.hpp"
 #include "scanbus/laser_scan_message.hpp"
+#include "scanbus/launch/system.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/typed_topics.hpp"
 
@@ -31,16 +31,16 @@ sensor_msgs::msg::LaserScan laser_scan(sensor::LaserScan scan, double stamp) {
 }  // namespace
 
 TEST(ScanMatcherService, TracksAKnownFlightAndRejectsABadScan) {
-  setenv("SCANBUS_DOMAIN_ID", "82", 1);
   char dir[] = "/tmp/scanbus_scan_matcher_XXXXXX";
   const std::string work = mkdtemp(dir);
+  launch::System system({SCANBUS_CLI, work, {"", "localhost", 82}});
   // Reliable on rt/scan so this test loses nothing by design (the catalogue's best effort
   // is what a sensor stream wants), and rt/scan_match deeper than the burst: with the
   // catalogue's depth 10 the writer dropped an unacknowledged match when this test's process
   // was slow to take them (29 of 30 once in CI, beside other tests).
-  std::ofstream(work + "/matcher.yaml")
-      << "qos:\n  rt/scan: {reliability: reliable, depth: 100}\n  rt/scan_match: {reliability: reliable, depth: 100}\n";
-  ChildProcess service(SCANBUS_CLI, {"run", "scan_matcher", "--config", work + "/matcher.yaml"}, work + "/matcher.log");
+  launch::ServiceConfig config;
+  config.qos[topics::kScan.name] = config.qos[topics::kScanMatch.name] = QosSettings{true, false, false, 100};
+  system.start("scan_matcher", config);
 
   Participant participant(DdsSettings{"", "localhost", 82}, "scanbus/test_scan_matcher");
   QosSettings reliable;
@@ -105,10 +105,10 @@ TEST(ScanMatcherService, TracksAKnownFlightAndRejectsABadScan) {
 // KEEP_LAST 10) drops scans, and every one of them is counted in Health (samples_lost, with
 // the topic named), never silent: matched + failed + lost = written.
 TEST(ScanMatcherService, CountsTheScansABurstLost) {
-  setenv("SCANBUS_DOMAIN_ID", "85", 1);
   char dir[] = "/tmp/scanbus_scan_matcher_XXXXXX";
   const std::string work = mkdtemp(dir);
-  ChildProcess service(SCANBUS_CLI, {"run", "scan_matcher"}, work + "/matcher.log");
+  launch::System system({SCANBUS_CLI, work, {"", "localhost", 85}});
+  system.start("scan_matcher");
 
   Participant participant(DdsSettings{"", "localhost", 85}, "scanbus/test_scan_burst");
   Writer<sensor_msgs::msg::LaserScanPubSubType> scans(participant, topics::kScan);
@@ -179,7 +179,7 @@ TEST(ScanMatcherService, CountsTheScansABurstLost) {
   EXPECT_TRUE(balanced) << processed << " matched or failed + " << lost << " lost, of " << written - before
                         << " written once its reader had matched";
   EXPECT_GT(lost, 0u) << "the burst outran the matcher";
-  std::ifstream log_file(work + "/matcher.log");
+  std::ifstream log_file(system.path("scan_matcher.log"));
   const std::string log((std::istreambuf_iterator<char>(log_file)), std::istreambuf_iterator<char>());
   EXPECT_NE(log.find("samples lost before reaching scan_matcher (rt/scan "), std::string::npos) << log;
 }

@@ -10,7 +10,7 @@
 #include <thread>
 
 #include "protocol.h"
-#include "scanbus/child_process.hpp"
+#include "scanbus/launch/system.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/point_cloud.hpp"
 #include "scanbus/service.hpp"
@@ -87,21 +87,26 @@ class ScannerPipeline : public ::testing::Test {
     work_ = mkdtemp(dir);
     link_ = work_ + "/scanner.tty";
   }
-  void TearDown() override { std::system(("rm -rf " + work_).c_str()); }
+  void TearDown() override {
+    system_.reset();  // the children stop before their work folder goes
+    std::system(("rm -rf " + work_).c_str());
+  }
 
   // Each test on its own domain: ctest runs them in parallel.
   void use_domain(int domain) {
-    setenv("SCANBUS_DOMAIN_ID", std::to_string(domain).c_str(), 1);
     observer_ = std::make_unique<ScannerObserver>(domain);
+    system_ = std::make_unique<launch::System>(launch::SystemSettings{SCANBUS_CLI, work_, {"", "localhost", domain}});
   }
 
-  std::unique_ptr<ChildProcess> start_scanner_io(
-      const std::string& extra, const std::string& reconnect = "  reconnect_min: 0.05\n  reconnect_max: 0.5\n") {
-    const std::string config = work_ + "/scanner_io.yaml";
-    std::ofstream(config) << "service:\n  health_period: 0.2\nscanner_io:\n  port: " << link_ << "\n"
-                          << reconnect << extra;
-    return std::make_unique<ChildProcess>(
-        SCANBUS_CLI, std::vector<std::string>{"run", "scanner_io", "--config", config}, work_ + "/scanner_io.log");
+  // scanner_io on the test's device link, looking for it often; `settings` (YAML) over that.
+  ChildProcess& start_scanner_io(const std::string& settings = "{}") {
+    launch::ServiceConfig config;
+    config.health_period = 0.2;
+    config.settings["port"] = link_;
+    config.settings["reconnect_min"] = 0.05;
+    config.settings["reconnect_max"] = 0.5;
+    for (const auto& entry : YAML::Load(settings)) config.settings[entry.first.as<std::string>()] = entry.second;
+    return system_->start("scanner_io", config);
   }
 
   // Until then, what scanner_io publishes would not reach our volatile readers.
@@ -109,10 +114,10 @@ class ScannerPipeline : public ::testing::Test {
     ASSERT_TRUE(observer_->wait_until([&] { return observer_->discovered(); }, 20s)) << "scanner_io not discovered";
   }
 
-  std::unique_ptr<ChildProcess> start_simulator(const std::vector<std::string>& extra) {
+  ChildProcess& start_simulator(const std::vector<std::string>& extra) {
     std::vector<std::string> arguments = {"sim", "scanner", "--link", link_};
     arguments.insert(arguments.end(), extra.begin(), extra.end());
-    auto simulator = std::make_unique<ChildProcess>(SCANBUS_CLI, arguments, work_ + "/sim.log");
+    ChildProcess& simulator = system_->start_command("sim", arguments);
     for (int i = 0; i < 100 && access(link_.c_str(), F_OK) != 0; ++i) std::this_thread::sleep_for(20ms);
     return simulator;
   }
@@ -124,6 +129,7 @@ class ScannerPipeline : public ::testing::Test {
 
   std::string work_, link_;
   std::unique_ptr<ScannerObserver> observer_;
+  std::unique_ptr<launch::System> system_;
 };
 
 // What the firmware would send, framed with its own checksum.
@@ -146,9 +152,9 @@ void write_all(sim::PtyDevice& device, std::string bytes) {
 
 TEST_F(ScannerPipeline, FullScanOfTheDefaultRoomArrivesWhole) {
   use_domain(71);
-  auto scanner_io = start_scanner_io("  resolution: 1\n");
+  start_scanner_io("{resolution: 1}");
   wait_for_discovery();
-  auto simulator = start_simulator({"--speed", "20", "--dropout", "0", "--seed", "3"});
+  start_simulator({"--speed", "20", "--dropout", "0", "--seed", "3"});
   ASSERT_TRUE(observer_->wait_until([&] { return !observer_->scans.empty(); }, 60s))
       << log("sim.log") << log("scanner_io.log");
   std::lock_guard<std::mutex> lock(observer_->mutex);
@@ -193,9 +199,9 @@ TEST_F(ScannerPipeline, FullScanOfTheDefaultRoomArrivesWhole) {
 TEST_F(ScannerPipeline, ReconnectsAfterUnplugAndScansAgain) {
   use_domain(72);
   // Unplugged 20 s into the first scan (1 s real time at x20), back after 1 s.
-  auto scanner_io = start_scanner_io("  resolution: 2\n");
+  ChildProcess& scanner_io = start_scanner_io("{resolution: 2}");
   wait_for_discovery();
-  auto simulator = start_simulator({"--speed", "20", "--unplug-at", "20", "--unplug-for", "1"});
+  start_simulator({"--speed", "20", "--unplug-at", "20", "--unplug-for", "1"});
   ASSERT_TRUE(observer_->wait_until([&] { return !observer_->scans.empty(); }, 90s))
       << log("sim.log") << log("scanner_io.log");
   EXPECT_TRUE(observer_->wait_until([&] { return observer_->counters["aborted_scans"] >= 1; }, 5s));
@@ -209,7 +215,7 @@ TEST_F(ScannerPipeline, ReconnectsAfterUnplugAndScansAgain) {
     return s.message().find("after a gap of") != std::string::npos;
   });
   EXPECT_TRUE(gap_reported);
-  EXPECT_FALSE(scanner_io->exited().has_value());
+  EXPECT_FALSE(scanner_io.exited().has_value());
 }
 
 // A device plugged in after the back-off has grown long is opened at once: while the device
@@ -218,11 +224,11 @@ TEST_F(ScannerPipeline, ReconnectsAfterUnplugAndScansAgain) {
 // later.
 TEST_F(ScannerPipeline, TakesUpAReplugAtOnceWhateverTheBackOff) {
   use_domain(86);
-  auto scanner_io = start_scanner_io("", "  reconnect_min: 0.1\n  reconnect_max: 30\n");
+  start_scanner_io("{reconnect_min: 0.1, reconnect_max: 30}");
   wait_for_discovery();
   std::this_thread::sleep_for(7s);  // retries at 0.1, 0.3, 0.7, 1.5, 3.1 and 6.3 s; the next at 12.7 s
   const auto plugged = std::chrono::steady_clock::now();
-  auto simulator = start_simulator({"--speed", "20"});
+  start_simulator({"--speed", "20"});
   auto connected = [&] {
     return std::any_of(observer_->statuses.begin(), observer_->statuses.end(),
                        [](const auto& s) { return s.message().rfind("connected", 0) == 0; });
@@ -267,7 +273,7 @@ TEST_F(ScannerPipeline, DamagedStreamIsCountedNeverFatal) {
                      (line < 22 ? "1" : "250") + " 100");
   stream += framed("L 1 4500") + framed("D 0 2");
   write_all(device, stream);
-  auto scanner_io = start_scanner_io("  autostart: false\n");
+  ChildProcess& scanner_io = start_scanner_io("{autostart: false}");
   ASSERT_TRUE(observer_->wait_until([&] { return !observer_->scans.empty(); }, 30s)) << log("scanner_io.log");
   ASSERT_TRUE(observer_->wait_until([&] { return observer_->counters["scans"] == 1; }, 5s));
   // ScannerStatus carries the same counts, once its next periodic sample is out.
@@ -279,7 +285,7 @@ TEST_F(ScannerPipeline, DamagedStreamIsCountedNeverFatal) {
   EXPECT_EQ(observer_->counters["checksum_errors"], 1u);
   EXPECT_EQ(observer_->counters["malformed_lines"], 3u);  // garbage, truncated, runaway
   EXPECT_EQ(observer_->counters["out_of_range"], 2u);
-  EXPECT_FALSE(scanner_io->exited().has_value());
+  EXPECT_FALSE(scanner_io.exited().has_value());
   EXPECT_EQ(observer_->statuses.back().checksum_errors(), 1u);
   EXPECT_EQ(observer_->statuses.back().lost_lines(), 2u);
   EXPECT_EQ(observer_->statuses.back().out_of_range(), 2u);
@@ -287,9 +293,9 @@ TEST_F(ScannerPipeline, DamagedStreamIsCountedNeverFatal) {
 
 TEST_F(ScannerPipeline, CommandsOverDdsStartAndStopTheScanner) {
   use_domain(75);
-  auto scanner_io = start_scanner_io("  autostart: false\n");
+  start_scanner_io("{autostart: false}");
   wait_for_discovery();
-  auto simulator = start_simulator({"--speed", "10"});
+  start_simulator({"--speed", "10"});
   Participant participant(DdsSettings{"", "localhost", 75}, "scanbus/test_commands");
   Writer<scanbus::msg::ScannerCommandPubSubType> commands(participant, topics::kScannerCommand);
   ASSERT_TRUE(commands.wait_for_readers(1, 20s));
@@ -339,7 +345,7 @@ TEST_F(ScannerPipeline, LegacyThesisStream) {
   stream += "1.57 x 250\n";  // malformed
   stream += "d\n";
   write_all(device, stream);
-  auto scanner_io = start_scanner_io("  protocol: legacy\n");
+  start_scanner_io("{protocol: legacy}");
   ASSERT_TRUE(observer_->wait_until([&] { return !observer_->scans.empty(); }, 30s)) << log("scanner_io.log");
   ASSERT_TRUE(observer_->wait_until([&] { return observer_->counters["malformed_lines"] == 1; }, 5s));
   std::lock_guard<std::mutex> lock(observer_->mutex);

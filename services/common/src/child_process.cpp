@@ -21,8 +21,23 @@ std::string own_executable() {
   return self;
 }
 
+namespace {
+
+// This process's environment with `overrides` set over it, as "NAME=value" lines.
+std::vector<std::string> environment_with(const std::map<std::string, std::string>& overrides) {
+  std::vector<std::string> lines;
+  for (char** entry = environ; *entry != nullptr; ++entry) {
+    const std::string line = *entry;
+    if (overrides.count(line.substr(0, line.find('='))) == 0) lines.push_back(line);
+  }
+  for (const auto& [name, value] : overrides) lines.push_back(name + "=" + value);
+  return lines;
+}
+
+}  // namespace
+
 ChildProcess::ChildProcess(const std::string& executable, const std::vector<std::string>& arguments,
-                           const std::string& log_path)
+                           const std::string& log_path, const std::map<std::string, std::string>& environment)
     : log_path_(log_path) {
   name_ = executable.substr(executable.rfind('/') + 1);  // e.g. "scanbus run scanner_io"
   for (size_t i = 0; i < arguments.size() && i < 2; ++i) name_ += " " + arguments[i];
@@ -31,6 +46,10 @@ ChildProcess::ChildProcess(const std::string& executable, const std::vector<std:
   std::vector<char*> argv = {program.data()};
   for (auto& word : words) argv.push_back(word.data());
   argv.push_back(nullptr);
+  std::vector<std::string> variables = environment_with(environment);
+  std::vector<char*> envp;
+  for (auto& variable : variables) envp.push_back(variable.data());
+  envp.push_back(nullptr);
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
@@ -42,7 +61,7 @@ ChildProcess::ChildProcess(const std::string& executable, const std::vector<std:
   sigemptyset(&none);
   posix_spawnattr_setsigmask(&attributes, &none);
   posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK);
-  const int error = posix_spawn(&pid_, program.c_str(), &actions, &attributes, argv.data(), environ);
+  const int error = posix_spawn(&pid_, program.c_str(), &actions, &attributes, argv.data(), envp.data());
   posix_spawn_file_actions_destroy(&actions);
   posix_spawnattr_destroy(&attributes);
   if (error != 0) throw std::runtime_error("cannot start " + name_ + ": " + std::strerror(error));

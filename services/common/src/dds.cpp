@@ -31,6 +31,13 @@ DdsSettings dds_settings_from_config(const Config& section) {
   return settings;
 }
 
+std::map<std::string, std::string> dds_environment(const DdsSettings& settings) {
+  // An empty file is the built-in profile, also when this process's environment names one.
+  return {{"SCANBUS_DOMAIN_ID", std::to_string(settings.domain)},
+          {"SCANBUS_DDS_PROFILE_FILE", settings.profile_file},
+          {"SCANBUS_DDS_PROFILE", settings.profile}};
+}
+
 Participant::Participant(const DdsSettings& settings, const std::string& name) {
   auto* factory = dds::DomainParticipantFactory::get_instance();
   dds::DomainParticipantQos qos;

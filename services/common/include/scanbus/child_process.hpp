@@ -4,6 +4,7 @@
 
 #include <sys/types.h>
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -12,7 +13,10 @@ namespace scanbus {
 
 class ChildProcess {
  public:
-  ChildProcess(const std::string& executable, const std::vector<std::string>& arguments, const std::string& log_path);
+  // `environment` is set in the child's environment over this process's own (this process's
+  // stays as it is).
+  ChildProcess(const std::string& executable, const std::vector<std::string>& arguments, const std::string& log_path,
+               const std::map<std::string, std::string>& environment = {});
   ~ChildProcess();
   ChildProcess(const ChildProcess&) = delete;
   ChildProcess& operator=(const ChildProcess&) = delete;

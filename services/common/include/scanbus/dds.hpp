@@ -58,6 +58,9 @@ const char* embedded_localhost_profile();
 // (the participant profile's name) and SCANBUS_DOMAIN_ID override the file, so tests and
 // deployments can set every process at once.
 DdsSettings dds_settings_from_config(const Config& dds_section);
+// Those variables for `settings`: what a process started from here needs to join the same
+// domain with the same profile.
+std::map<std::string, std::string> dds_environment(const DdsSettings& settings);
 
 class Participant {
  public:

@@ -8,7 +8,7 @@
 #include "PointCloud2.h"
 #include "scanbus/dds.hpp"
 
-namespace scanbus::cli {
+namespace scanbus::cloud_assembly {
 
 // The cloud of the scans stamped in [begin, end] (s since the epoch), in the fixed frame;
 // none, with the reason in `problem`, when nobody answers within `timeout` s or the reply
@@ -16,4 +16,4 @@ namespace scanbus::cli {
 std::optional<sensor_msgs::msg::PointCloud2> request_window_cloud(Participant& participant, double begin, double end,
                                                                   double timeout, std::string& problem);
 
-}  // namespace scanbus::cli
+}  // namespace scanbus::cloud_assembly

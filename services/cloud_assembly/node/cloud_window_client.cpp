@@ -1,4 +1,4 @@
-#include "cloud_request.hpp"
+#include "cloud_window_client.hpp"
 
 #include <unistd.h>
 
@@ -8,7 +8,7 @@
 #include "scanbus/clock.hpp"
 #include "scanbus/messages.hpp"
 
-namespace scanbus::cli {
+namespace scanbus::cloud_assembly {
 
 std::optional<sensor_msgs::msg::PointCloud2> request_window_cloud(Participant& participant, double begin, double end,
                                                                   double timeout, std::string& problem) {
@@ -57,4 +57,4 @@ std::optional<sensor_msgs::msg::PointCloud2> request_window_cloud(Participant& p
   return reply->cloud();
 }
 
-}  // namespace scanbus::cli
+}  // namespace scanbus::cloud_assembly

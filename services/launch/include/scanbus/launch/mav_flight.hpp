@@ -9,13 +9,14 @@
 #include <string>
 #include <vector>
 
-#include "commands.hpp"
+#include "scanbus/dds.hpp"
 #include "scanbus/ground_evaluation/box_evaluation.hpp"
 
-namespace scanbus::cli {
+namespace scanbus::launch {
 
 struct MavFlightOptions {
-  DdsOptions dds;
+  std::string executable;  // the scanbus command
+  DdsSettings dds;
   int scenario = 4;
   double duration = 180;  // s of flight
   double rate = 8;        // replay, times real time
@@ -35,4 +36,4 @@ struct MavFlightResult {
 // Throws std::runtime_error naming what failed (a process that died, with its log).
 MavFlightResult run_mav_flight(const MavFlightOptions& options);
 
-}  // namespace scanbus::cli
+}  // namespace scanbus::launch

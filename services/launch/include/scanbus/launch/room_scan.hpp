@@ -8,13 +8,14 @@
 #include <vector>
 
 #include "RoomMeasurement.h"
-#include "commands.hpp"
 #include "scanbus/cloud_point.hpp"
+#include "scanbus/dds.hpp"
 
-namespace scanbus::cli {
+namespace scanbus::launch {
 
 struct RoomScanOptions {
-  DdsOptions dds;
+  std::string executable;  // the scanbus command
+  DdsSettings dds;
   std::string room_file;  // empty: the simulator's built-in room
   double speed = 1.0;
   int resolution = 1;
@@ -34,4 +35,4 @@ struct RoomScanResult {
 // Throws std::runtime_error naming what failed (a process that died, with its log).
 RoomScanResult run_room_scan(const RoomScanOptions& options);
 
-}  // namespace scanbus::cli
+}  // namespace scanbus::launch
