@@ -11,7 +11,6 @@
 #include <mutex>
 #include <optional>
 
-#include "cloud_png.hpp"
 #include "cloud_window_client.hpp"
 #include "commands.hpp"
 #include "scanbus/clock.hpp"
@@ -19,6 +18,7 @@
 #include "scanbus/cloud_dem/geotiff.hpp"
 #include "scanbus/cloud_io/cloud_files.hpp"
 #include "scanbus/messages.hpp"
+#include "scanbus/plot/cloud_picture.hpp"
 #include "scanbus/point_cloud.hpp"
 #include "scanbus/service.hpp"
 #include "scanbus/typed_topics.hpp"
@@ -93,8 +93,8 @@ int run_render(const RenderOptions& options) {
     std::cerr << "scanbus cloud render: " << options.cloud << ": no finite points\n";
     return 2;
   }
-  write_cloud_png(options.out, points, options.title.empty() ? options.cloud : options.title,
-                  options.view == "top" ? CloudView::Top : CloudView::Side, false);
+  plot::write_cloud_picture(options.out, points, options.title.empty() ? options.cloud : options.title,
+                            options.view == "top" ? plot::CloudView::Top : plot::CloudView::Side, false);
   std::printf("wrote %s: %zu points, %s view\n", options.out.c_str(), points.size(), options.view.c_str());
   return 0;
 }

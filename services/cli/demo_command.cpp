@@ -7,15 +7,15 @@
 #include <filesystem>
 #include <iostream>
 
-#include "cloud_png.hpp"
 #include "commands.hpp"
-#include "floor_plan.hpp"
 #include "room_report.hpp"
 #include "scanbus/child_process.hpp"
 #include "scanbus/cloud_io/cloud_files.hpp"
 #include "scanbus/launch/mav_flight.hpp"
 #include "scanbus/launch/room_scan.hpp"
+#include "scanbus/plot/cloud_picture.hpp"
 #include "scanbus/room_measurement/room_message.hpp"
+#include "scanbus/room_plan/floor_plan.hpp"
 
 namespace scanbus::cli {
 
@@ -76,13 +76,13 @@ int run_demo(const DemoOptions& options) {
   const std::string pcd = options.out + "/scan.pcd", png = options.out + "/room_top.png",
                     plan = options.out + "/floor_plan.png", drawing = options.out + "/floor_plan.dxf";
   cloud_io::write_pcd(pcd, result.points);
-  write_cloud_png(png, result.points, "scanbus demo: built-in room (thesis case 1), simulated scan", CloudView::Top,
-                  true);
+  plot::write_cloud_picture(png, result.points, "scanbus demo: built-in room (thesis case 1), simulated scan",
+                            plot::CloudView::Top, true);
   std::vector<Eigen::Vector3f> background;
   for (const auto& point : result.points) background.push_back(point.position);
   const std::string plan_title = "scanbus demo: built-in room (thesis case 1, 5.47 m x 3.48 m)";
-  write_floor_plan(plan, room, plan_title, background);
-  write_floor_plan(drawing, room, plan_title);
+  room_plan::write_floor_plan(plan, room, plan_title, background);
+  room_plan::write_floor_plan(drawing, room, plan_title);
   if (!options.json) {
     std::printf("scan of the built-in room: %zu points from %u revolutions\n", result.points.size(),
                 result.revolutions);
@@ -104,8 +104,8 @@ int run_demo(const DemoOptions& options) {
                       side = options.out + "/mav_side.png";
     cloud_io::write_pcd(mav_pcd, points);
     const std::string title = "scanbus demo: MAV scenario IV, ground cloud from the fused poses";
-    write_cloud_png(top, points, title, CloudView::Top, false);
-    write_cloud_png(side, points, title, CloudView::Side, false);
+    plot::write_cloud_picture(top, points, title, plot::CloudView::Top, false);
+    plot::write_cloud_picture(side, points, title, plot::CloudView::Side, false);
     mav_ok = mav.boxes.ok;
     json["mav"] = mav_json(mav, {mav_pcd, top, side});
     if (!options.json) {

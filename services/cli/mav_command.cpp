@@ -11,7 +11,6 @@
 #include <iostream>
 #include <sstream>
 
-#include "cloud_png.hpp"
 #include "commands.hpp"
 #include "mav_messages.hpp"
 #include "scanbus/cloud_dem/geotiff.hpp"
@@ -19,6 +18,7 @@
 #include "scanbus/config.hpp"
 #include "scanbus/ground_evaluation/flight_evaluation.hpp"
 #include "scanbus/mav_sim/flight.hpp"
+#include "scanbus/plot/cloud_picture.hpp"
 #include "scanbus/pose_estimation/pose_estimator.hpp"
 
 namespace scanbus::cli {
@@ -179,8 +179,9 @@ void write_clouds(const std::string& folder, const std::string& flight, const Fl
     for (const auto& p : evaluation.cloud[source]) points.push_back({p, 0.0f});
     const std::string path = folder + "/" + stem + "_" + ground_evaluation::kHeightSourceNames[source];
     cloud_io::write_pcd(path + ".pcd", points);
-    write_cloud_png(path + ".png", points, flight + ", height from " + ground_evaluation::kHeightSourceNames[source],
-                    CloudView::Top, false);
+    plot::write_cloud_picture(path + ".png", points,
+                              flight + ", height from " + ground_evaluation::kHeightSourceNames[source],
+                              plot::CloudView::Top, false);
   }
   if (evaluation.elevation.filled() > 0) {
     const auto& origin = log.meta_of("origin", 3);

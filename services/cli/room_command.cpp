@@ -1,10 +1,10 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "floor_plan.hpp"
 #include "room_measurement_node.hpp"
 #include "room_report.hpp"
 #include "scanbus/cloud_io/cloud_files.hpp"
+#include "scanbus/room_plan/floor_plan.hpp"
 
 namespace scanbus::cli {
 
@@ -41,7 +41,7 @@ int run_measure(const RoomOptions& options) {
   }
   std::cout << (options.json ? room_json(room).dump() + "\n" : room_text(room)) << std::flush;
   // After the result: a plan that cannot be written loses no measurement.
-  if (!options.plan.empty()) write_floor_plan(options.plan, room, options.file);
+  if (!options.plan.empty()) room_plan::write_floor_plan(options.plan, room, options.file);
   return room.status == room_measurement::RoomStatus::Ok ? 0 : 1;
 }
 

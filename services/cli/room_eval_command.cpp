@@ -6,10 +6,10 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "floor_plan.hpp"
 #include "room_measurement_node.hpp"
 #include "scanbus/cloud_io/cloud_files.hpp"
 #include "scanbus/room_evaluation/room_evaluation.hpp"
+#include "scanbus/room_plan/floor_plan.hpp"
 
 namespace scanbus::cli {
 
@@ -30,8 +30,8 @@ void write_cases(const std::string& folder, const std::vector<room_evaluation::R
     std::vector<CloudPoint> points;
     for (const auto& p : c.cloud) points.push_back({p, 0});
     cloud_io::write_pcd(name + ".pcd", points);
-    write_floor_plan(name + "_plan.png", c.measurement, name, c.cloud);
-    write_floor_plan(name + "_plan.dxf", c.measurement, name);
+    room_plan::write_floor_plan(name + "_plan.png", c.measurement, name, c.cloud);
+    room_plan::write_floor_plan(name + "_plan.dxf", c.measurement, name);
   }
 }
 

@@ -1,18 +1,16 @@
 #include <unistd.h>
 
-#include <Eigen/Geometry>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
-#include <limits>
 #include <sstream>
 
-#include "backtransform_plot.hpp"
 #include "commands.hpp"
 #include "laser_mcap.hpp"
+#include "scanbus/plot/backtransform_picture.hpp"
+#include "scanbus/scan_matcher/backtransform.hpp"
 #include "scanbus/scan_matcher/laser_log.hpp"
 #include "scanbus/scan_matcher/pl_icp.hpp"
 
@@ -195,48 +193,18 @@ struct BacktransformOptions {
                              // put a tenth of the points further off, so the p90 is reported only)
 };
 
-struct PairCheck {
+// A checked pair: scans `row` and `row` + 1.
+struct RowCheck : PairCheck {
   size_t row = 0;
-  MatchResult match;
-  double median = 0, p90 = 0;  // m, point-to-line residuals after back-transformation
-  size_t points = 0;
-  bool suspect = false;
 };
 
-double percentile(std::vector<double> values, double share) {
-  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
-  const auto at = values.begin() + static_cast<long>(share * static_cast<double>(values.size() - 1));
-  std::nth_element(values.begin(), at, values.end());
-  return *at;
-}
-
-// Algorithm 3.1 of the MAV paper: match scan row+1 to scan row, carry it back by the
-// increment, and measure how well it lies on scan row.
-PairCheck check_pair(const ScanMatcher& matcher, const std::vector<LaserRecord>& records, size_t row, double max_median,
-                     std::vector<Eigen::Vector2d>* reference_out = nullptr,
-                     std::vector<Eigen::Vector2d>* moved_out = nullptr) {
-  const auto& a = records[row];
-  const auto& b = records[row + 1];
-  const auto reference = matcher.points_of(a.scan);
-  const auto scan = matcher.points_of(b.scan);
-  PairCheck check;
+RowCheck check_row(const ScanMatcher& matcher, const std::vector<LaserRecord>& records, size_t row, double max_median) {
+  RowCheck check{check_pair(matcher, records[row].scan, records[row + 1].scan, max_median)};
   check.row = row;
-  check.match = matcher.align(reference, scan, Pose2{});
-  const std::vector<double> residuals = matcher.residuals(reference, scan, check.match.increment);
-  check.points = residuals.size();
-  check.median = percentile(residuals, 0.5);
-  check.p90 = percentile(residuals, 0.9);
-  check.suspect = check.match.quality != MatchQuality::Ok || !(check.median <= max_median);
-  if (reference_out) *reference_out = reference;
-  if (moved_out) {
-    const Eigen::Matrix2d rotation = Eigen::Rotation2Dd(check.match.increment.theta).toRotationMatrix();
-    for (const auto& p : scan)
-      moved_out->push_back(rotation * p + Eigen::Vector2d(check.match.increment.x, check.match.increment.y));
-  }
   return check;
 }
 
-nlohmann::json pair_json(const PairCheck& check) {
+nlohmann::json pair_json(const RowCheck& check) {
   const Pose2& i = check.match.increment;
   return {{"row", check.row},
           {"increment", {{"x", i.x}, {"y", i.y}, {"theta_deg", i.theta * 180 / M_PI}}},
@@ -247,7 +215,7 @@ nlohmann::json pair_json(const PairCheck& check) {
           {"verdict", check.suspect ? "suspect" : "ok"}};
 }
 
-std::string pair_line(const PairCheck& check) {
+std::string pair_line(const RowCheck& check) {
   const Pose2& i = check.match.increment;
   char line[200];
   std::snprintf(line, sizeof(line),
@@ -274,23 +242,23 @@ int run_backtransform(const BacktransformOptions& options) {
   }
   const ScanMatcher matcher(settings);
   if (!options.all) {
-    std::vector<Eigen::Vector2d> reference, moved;
-    const PairCheck check =
-        check_pair(matcher, records, static_cast<size_t>(options.row), options.max_median, &reference, &moved);
+    const RowCheck check = check_row(matcher, records, static_cast<size_t>(options.row), options.max_median);
     if (!options.out.empty()) {
+      const auto reference = matcher.points_of(records[check.row].scan);
+      const auto moved = carried_back(matcher.points_of(records[check.row + 1].scan), check.match.increment);
       char title[96];
       std::snprintf(title, sizeof(title), "BacktransformLaserScan: scan %zu+1 onto scan %zu", check.row, check.row);
-      write_backtransform_plot(options.out, reference, moved, title, pair_line(check));
+      plot::write_backtransform_picture(options.out, reference, moved, title, pair_line(check));
     }
     std::cout << (options.json ? pair_json(check).dump() : pair_line(check)) << "\n";
     return check.suspect ? 1 : 0;
   }
   const bool progress = !options.json && isatty(STDOUT_FILENO);
-  std::vector<PairCheck> checks;
+  std::vector<RowCheck> checks;
   std::vector<double> medians;
   size_t suspect = 0;
   for (size_t row = 0; row + 1 < records.size(); ++row) {
-    checks.push_back(check_pair(matcher, records, row, options.max_median));
+    checks.push_back(check_row(matcher, records, row, options.max_median));
     suspect += checks.back().suspect;
     medians.push_back(checks.back().median);
     if (progress && (row % 50 == 0 || row + 2 == records.size()))

@@ -12,6 +12,7 @@
 #include "scanbus/cloud_assembly/elevation_grid.hpp"
 #include "scanbus/laser_scan_message.hpp"
 #include "scanbus/messages.hpp"
+#include "scanbus/palette.hpp"
 #include "scanbus/point_cloud.hpp"
 
 namespace scanbus::cloud_assembly {

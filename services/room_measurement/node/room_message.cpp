@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "scanbus/palette.hpp"
 #include "scanbus/point_cloud.hpp"
 
 namespace scanbus::room_measurement {
@@ -12,12 +13,6 @@ namespace constants = scanbus::msg::RoomMeasurement_Constants;
 static_assert(static_cast<uint8_t>(DeviceEstimate::State::NotEstimated) == constants::DEVICE_NOT_ESTIMATED);
 static_assert(static_cast<uint8_t>(DeviceEstimate::State::Applied) == constants::DEVICE_APPLIED);
 static_assert(static_cast<uint8_t>(DeviceEstimate::State::Held) == constants::DEVICE_HELD);
-
-uint32_t wall_colour(size_t index) {
-  static const uint32_t kPalette[] = {0xE6194B, 0x3CB44B, 0x4363D8, 0xF58231, 0x911EB4,
-                                      0x42D4F4, 0xF032E6, 0x9A6324, 0x469990, 0x808000};
-  return kPalette[index % (sizeof(kPalette) / sizeof(kPalette[0]))];
-}
 
 scanbus::msg::RoomMeasurement to_message(const RoomResult& result, const std::string& frame_id,
                                          const builtin_interfaces::msg::Time& stamp) {

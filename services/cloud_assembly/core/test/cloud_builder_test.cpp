@@ -43,10 +43,3 @@ TEST(ScanWindow, AssemblesATimeSpanAndForgetsTheOldest) {
   for (int k = 0; k < 4; ++k) small.add(k, std::vector<Eigen::Vector3f>(2, Eigen::Vector3f::Zero()));
   EXPECT_EQ(small.scans(), 2u);  // a point budget of 5 keeps two scans of two
 }
-
-TEST(HeightColour, BlueLowGreenMiddleRedHigh) {
-  EXPECT_EQ(height_colour(0, 0, 1), 0x0000FFu);
-  EXPECT_EQ(height_colour(0.5, 0, 1), 0x00FF00u);
-  EXPECT_EQ(height_colour(1, 0, 1), 0xFF0000u);
-  EXPECT_EQ(height_colour(7, 0, 1), 0xFF0000u);
-}

@@ -58,8 +58,4 @@ class ScanWindow {
   std::deque<std::pair<double, std::vector<Eigen::Vector3f>>> scans_;  // by stamp
 };
 
-// A colour for a height, from blue (low) through green to red (high), as the paper's
-// figures colour their clouds: 0xRRGGBB.
-uint32_t height_colour(double z, double low, double high);
-
 }  // namespace scanbus::cloud_assembly

@@ -15,7 +15,4 @@ RoomResult from_message(const scanbus::msg::RoomMeasurement& message);
 sensor_msgs::msg::PointCloud2 walls_cloud(const RoomResult& result, const std::string& frame_id,
                                           const builtin_interfaces::msg::Time& stamp);
 
-// A distinct colour for wall i (0xRRGGBB).
-uint32_t wall_colour(size_t index);
-
 }  // namespace scanbus::room_measurement
