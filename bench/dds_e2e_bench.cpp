@@ -26,7 +26,6 @@
 #include <sstream>
 #include <thread>
 
-#include "PointCloud2PubSubTypes.h"
 #include "protocol.h"
 #include "room_cloud.hpp"
 #include "scanbus/clock.hpp"
@@ -35,6 +34,7 @@
 #include "scanbus/service.hpp"
 #include "scanbus/sim/pty_device.hpp"
 #include "scanbus/typed_topics.hpp"
+#include "scanbus_msgs/PointCloud2PubSubTypes.h"
 #include "serial_port.hpp"
 
 using Clock = std::chrono::steady_clock;
@@ -142,11 +142,12 @@ json child_result(const ChildProcess& child) {
   return json::parse(last);
 }
 
-// The children's configs and logs, beside the scanbus command this benchmark was built with.
+// Children of the scanbus command this benchmark was built with; their configs and logs go
+// with them.
 launch::System children() {
   const std::string self = own_executable();
   return launch::System({self.substr(0, self.rfind('/')) + "/../services/cli/scanbus",
-                         "/tmp/scanbus_e2e_" + std::to_string(getpid()), dds_settings()});
+                         "/tmp/scanbus_e2e_" + std::to_string(getpid()), dds_settings(), true});
 }
 
 json percentiles(std::vector<double> values) {

@@ -3,10 +3,10 @@
 #include <iostream>
 #include <thread>
 
-#include "PointCloud2PubSubTypes.h"
 #include "room_cloud.hpp"
 #include "scanbus/service.hpp"
 #include "scanbus/typed_topics.hpp"
+#include "scanbus_msgs/PointCloud2PubSubTypes.h"
 
 using namespace scanbus;
 

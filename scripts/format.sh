@@ -5,7 +5,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 command -v clang-format > /dev/null || { echo "clang-format missing: scripts/install-deps.sh installs it"; exit 1; }
-mapfile -t files < <(git ls-files '*.cpp' '*.hpp' '*.h' '*.ino')
+# Tracked files and new ones not yet added (not the ignored build tree).
+mapfile -t files < <(git ls-files --cached --others --exclude-standard '*.cpp' '*.hpp' '*.h' '*.ino')
 if [ "${1:-}" = "--check" ]; then
   unformatted=()
   for file in "${files[@]}"; do

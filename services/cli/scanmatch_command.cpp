@@ -1,11 +1,8 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
-#include <sstream>
 
 #include "commands.hpp"
 #include "laser_mcap.hpp"
@@ -13,6 +10,7 @@
 #include "scanbus/scan_matcher/backtransform.hpp"
 #include "scanbus/scan_matcher/laser_log.hpp"
 #include "scanbus/scan_matcher/pl_icp.hpp"
+#include "scanbus/scan_matcher/trajectory.hpp"
 
 namespace scanbus::cli {
 
@@ -40,22 +38,12 @@ MatcherSettings load_matcher_settings(const std::string& path) {
   return settings;
 }
 
-// One line per scan, "stamp x y theta", as TUM-style trajectory tools read them.
-void write_trajectory(const std::string& path, const std::vector<double>& stamps, const std::vector<Pose2>& poses) {
-  std::ofstream out(path);
-  out << std::fixed;
-  out.precision(6);
-  for (size_t i = 0; i < poses.size(); ++i)
-    out << stamps[i] << ' ' << poses[i].x << ' ' << poses[i].y << ' ' << poses[i].theta << '\n';
-  if (!out) throw std::runtime_error(path + ": cannot write the trajectory");
-}
-
 // The Freiburg metric over all relations and over those within max_span, as text or one
 // JSON object (with `extra` merged in).
-void print_scores(const std::vector<double>& stamps, const std::vector<Pose2>& poses,
-                  const std::vector<Relation>& relations, double max_span, bool json, nlohmann::json extra) {
-  const RelationErrors all = evaluate_relations(stamps, poses, relations);
-  const RelationErrors short_span = evaluate_relations(stamps, poses, relations, max_span);
+void print_scores(const Trajectory& trajectory, const std::vector<Relation>& relations, double max_span, bool json,
+                  nlohmann::json extra) {
+  const RelationErrors all = evaluate_relations(trajectory.stamps, trajectory.poses, relations);
+  const RelationErrors short_span = evaluate_relations(trajectory.stamps, trajectory.poses, relations, max_span);
   if (json) {
     extra.update({{"translational_error_m", stats_json(all.translational, 1)},
                   {"rotational_error_deg", stats_json(all.rotational, 180 / M_PI)},
@@ -101,33 +89,20 @@ int run_eval(const EvalOptions& options) {
   }
   const bool progress = !options.json && isatty(STDOUT_FILENO);
   ScanMatcher matcher(settings);
-  std::vector<double> stamps;
-  std::vector<Pose2> poses;
-  size_t failed = 0;
-  double matching_seconds = 0;
-  for (size_t i = 0; i < records.size(); ++i) {
-    const LaserRecord& record = records[i];
-    std::optional<Pose2> guess;
-    if (options.odometry_guess && i > 0) guess = records[i - 1].odometry.inverse() * record.odometry;
-    const auto started = std::chrono::steady_clock::now();
-    const MatchResult result = matcher.add_scan(record.scan, guess);
-    matching_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    failed += i > 0 && result.quality != MatchQuality::Ok;
-    stamps.push_back(record.scan.stamp);
-    poses.push_back(result.pose);
-    if (progress && (i % 50 == 0 || i + 1 == records.size()))
-      std::printf("\rmatching: scan %zu of %zu", i + 1, records.size()), std::fflush(stdout);
-  }
+  const TrackedLog tracked = track_log(matcher, records, options.odometry_guess, [&](size_t done, size_t total) {
+    if (progress && (done % 50 == 1 || done == total))
+      std::printf("\rmatching: scan %zu of %zu", done, total), std::fflush(stdout);
+  });
   if (progress) std::printf("\n");
-  if (!options.trajectory.empty()) write_trajectory(options.trajectory, stamps, poses);
-  const double rate = static_cast<double>(records.size()) / std::max(matching_seconds, 1e-9);
-  print_scores(stamps, poses, relations, options.max_span, options.json,
+  if (!options.trajectory.empty()) write_trajectory(options.trajectory, tracked.trajectory);
+  const double rate = static_cast<double>(records.size()) / std::max(tracked.matching_seconds, 1e-9);
+  print_scores(tracked.trajectory, relations, options.max_span, options.json,
                {{"scans", records.size()},
-                {"failed_matches", failed},
+                {"failed_matches", tracked.failed},
                 {"odometry_guess", options.odometry_guess},
                 {"scans_per_second", rate}});
   if (!options.json)
-    std::printf("%zu scans, %zu failed matches, %.0f scans per second%s\n", records.size(), failed, rate,
+    std::printf("%zu scans, %zu failed matches, %.0f scans per second%s\n", records.size(), tracked.failed, rate,
                 options.odometry_guess ? ", odometry as initial guess" : "");
   return 0;
 }
@@ -141,29 +116,16 @@ struct ScoreOptions {
 // A trajectory from elsewhere (the scan_matcher service's rt/scan_match, say) scored
 // against relations as `eval` scores its own.
 int run_score(const ScoreOptions& options) {
-  std::vector<double> stamps;
-  std::vector<Pose2> poses;
+  Trajectory trajectory;
   std::vector<Relation> relations;
   try {
     relations = read_relations(options.relations);
-    std::ifstream in(options.trajectory);
-    if (!in) throw LogError(options.trajectory + ": cannot open");
-    std::string text;
-    for (size_t line = 1; std::getline(in, text); ++line) {
-      if (text.empty() || text[0] == '#') continue;
-      std::istringstream fields(text);
-      double stamp;
-      Pose2 pose;
-      if (!(fields >> stamp >> pose.x >> pose.y >> pose.theta))
-        throw LogError(options.trajectory + ":" + std::to_string(line) + ": expected 'stamp x y theta'");
-      stamps.push_back(stamp);
-      poses.push_back(pose);
-    }
-  } catch (const std::runtime_error& e) {
+    trajectory = read_trajectory(options.trajectory);
+  } catch (const LogError& e) {
     std::cerr << "scanbus scanmatch score: " << e.what() << "\n";
     return 2;
   }
-  print_scores(stamps, poses, relations, options.max_span, options.json, {{"poses", poses.size()}});
+  print_scores(trajectory, relations, options.max_span, options.json, {{"poses", trajectory.poses.size()}});
   return 0;
 }
 

@@ -64,7 +64,7 @@ std::optional<typename PubSubType::type> first_sample(Participant& participant, 
 TEST(RoomService, MeasuresAScanAndLatchesTheResult) {
   char dir[] = "/tmp/scanbus_room_service_XXXXXX";
   const std::string work = mkdtemp(dir);
-  launch::System system({SCANBUS_CLI, work, {"", "localhost", 83}});
+  launch::System system({SCANBUS_CLI, work, {"", "localhost", 83}, true});
   launch::ServiceConfig config;
   config.settings["scans"] = 1;
   ChildProcess& service = system.start("room_measurement", config);
@@ -106,5 +106,4 @@ TEST(RoomService, MeasuresAScanAndLatchesTheResult) {
   }
   EXPECT_EQ(colours.size(), 4u);
   EXPECT_FALSE(service.exited().has_value());
-  std::system(("rm -rf " + work).c_str());
 }

@@ -33,7 +33,7 @@ sensor_msgs::msg::LaserScan laser_scan(sensor::LaserScan scan, double stamp) {
 TEST(ScanMatcherService, TracksAKnownFlightAndRejectsABadScan) {
   char dir[] = "/tmp/scanbus_scan_matcher_XXXXXX";
   const std::string work = mkdtemp(dir);
-  launch::System system({SCANBUS_CLI, work, {"", "localhost", 82}});
+  launch::System system({SCANBUS_CLI, work, {"", "localhost", 82}, true});
   // Reliable on rt/scan so this test loses nothing by design (the catalogue's best effort
   // is what a sensor stream wants), and rt/scan_match deeper than the burst: with the
   // catalogue's depth 10 the writer dropped an unacknowledged match when this test's process
@@ -107,7 +107,7 @@ TEST(ScanMatcherService, TracksAKnownFlightAndRejectsABadScan) {
 TEST(ScanMatcherService, CountsTheScansABurstLost) {
   char dir[] = "/tmp/scanbus_scan_matcher_XXXXXX";
   const std::string work = mkdtemp(dir);
-  launch::System system({SCANBUS_CLI, work, {"", "localhost", 85}});
+  launch::System system({SCANBUS_CLI, work, {"", "localhost", 85}, true});
   system.start("scan_matcher");
 
   Participant participant(DdsSettings{"", "localhost", 85}, "scanbus/test_scan_burst");

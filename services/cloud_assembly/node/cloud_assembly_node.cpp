@@ -10,6 +10,7 @@
 #include "scanbus/clock.hpp"
 #include "scanbus/cloud_assembly/assembler.hpp"
 #include "scanbus/cloud_assembly/elevation_grid.hpp"
+#include "scanbus/geometry_message.hpp"
 #include "scanbus/laser_scan_message.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/palette.hpp"
@@ -44,15 +45,6 @@ Settings read_settings(const Config& config) {
   s.elevation.cell_size = elevation.number("cell_size", 0.5, 0.0, 1000);
   s.elevation.min_points = static_cast<size_t>(elevation.integer("min_points", 3, 1, 1000000));
   return s;
-}
-
-Eigen::Isometry3d isometry(const geometry_msgs::msg::Transform& t) {
-  Eigen::Isometry3d result = Eigen::Isometry3d::Identity();
-  result.translation() = Eigen::Vector3d(t.translation().x(), t.translation().y(), t.translation().z());
-  result.linear() = Eigen::Quaterniond(t.rotation().w(), t.rotation().x(), t.rotation().y(), t.rotation().z())
-                        .normalized()
-                        .toRotationMatrix();
-  return result;
 }
 
 // Colours by height between the 2nd and 98th percentile, so a few stray points do not
@@ -109,7 +101,7 @@ class CloudAssembly : public Service {
     std::lock_guard<std::mutex> lock(mutex_);
     for (const auto& t : message.transforms()) {
       try {
-        const Eigen::Isometry3d transform = isometry(t.transform());
+        const Eigen::Isometry3d transform = to_eigen(t.transform());
         if (is_static)
           assembler_.add_static(t.header().frame_id(), t.child_frame_id(), transform);
         else

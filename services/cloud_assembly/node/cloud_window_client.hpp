@@ -5,8 +5,8 @@
 #include <optional>
 #include <string>
 
-#include "PointCloud2.h"
 #include "scanbus/dds.hpp"
+#include "scanbus_msgs/PointCloud2.h"
 
 namespace scanbus::cloud_assembly {
 

@@ -1,11 +1,11 @@
 #include <gtest/gtest.h>
 
-#include "HeaderPubSubTypes.h"
-#include "TimePubSubTypes.h"
-#include "TransformStampedPubSubTypes.h"
 #include "scanbus/json.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/topics.hpp"
+#include "scanbus_msgs/HeaderPubSubTypes.h"
+#include "scanbus_msgs/TimePubSubTypes.h"
+#include "scanbus_msgs/TransformStampedPubSubTypes.h"
 
 using namespace scanbus;
 

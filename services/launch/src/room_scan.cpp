@@ -5,11 +5,11 @@
 #include <optional>
 #include <string>
 
-#include "PointCloud2PubSubTypes.h"
-#include "RoomMeasurementPubSubTypes.h"
 #include "scanbus/launch/system.hpp"
 #include "scanbus/point_cloud.hpp"
 #include "scanbus/service.hpp"
+#include "scanbus_msgs/PointCloud2PubSubTypes.h"
+#include "scanbus_msgs/RoomMeasurementPubSubTypes.h"
 
 namespace scanbus::launch {
 

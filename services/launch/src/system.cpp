@@ -36,7 +36,11 @@ ServiceConfig::ServiceConfig(const ServiceConfig& other)
       settings(YAML::Clone(other.settings)) {}
 
 ServiceConfig& ServiceConfig::operator=(const ServiceConfig& other) {
-  if (this != &other) *this = ServiceConfig(other);
+  if (this == &other) return *this;
+  health_period = other.health_period;
+  log_level = other.log_level;
+  qos = other.qos;
+  settings.reset(YAML::Clone(other.settings));  // `=` would write into the node other copies share
   return *this;
 }
 
@@ -59,9 +63,15 @@ System::System(SystemSettings settings) : settings_(std::move(settings)) {
 
 System::~System() {
   while (!children_.empty()) children_.pop_back();  // the last started first
+  if (settings_.temporary) {
+    std::error_code ignored;  // a folder that cannot go is left, never an exception here
+    std::filesystem::remove_all(settings_.work_dir, ignored);
+  }
 }
 
 ChildProcess& System::start(const std::string& service, const ServiceConfig& config, Lifetime lifetime) {
+  if (log_names_.count(service))
+    throw std::invalid_argument("launch::System: " + service + " started twice (its log and config are one file each)");
   const std::string config_path = path(service + ".yaml");
   std::ofstream file(config_path);
   file << config.to_yaml(service);
@@ -76,6 +86,9 @@ ChildProcess& System::start_command(const std::string& log_name, const std::vect
 
 ChildProcess& System::start_program(const std::string& log_name, const std::string& program,
                                     const std::vector<std::string>& arguments, Lifetime lifetime) {
+  if (!log_names_.insert(log_name).second)
+    throw std::invalid_argument("launch::System: " + log_name +
+                                " started twice (its log and config are one file each)");
   children_.push_back(
       {std::make_unique<ChildProcess>(program, arguments, path(log_name + ".log"), dds_environment(settings_.dds)),
        lifetime});

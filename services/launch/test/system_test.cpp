@@ -84,6 +84,9 @@ TEST_F(SystemTest, ACopiedConfigIsItsOwn) {
   EXPECT_FALSE(assembly.settings["opening"].IsDefined());
   EXPECT_FALSE(matcher.settings["transform_timeout"].IsDefined());
   EXPECT_EQ(assembly.qos.size(), 1u);
+  ServiceConfig moved = std::move(matcher);  // a copy: yaml-cpp's node has no move of its own
+  matcher.settings["max_correspondence"] = 0.15;
+  EXPECT_FALSE(moved.settings["max_correspondence"].IsDefined());
 }
 
 TEST_F(SystemTest, AnEmptyConfigSaysNothing) { EXPECT_EQ(ServiceConfig{}.to_yaml("scanner_io"), "{}\n"); }
@@ -137,6 +140,26 @@ TEST_F(SystemTest, WaitingTooLongNamesWhatDidNotHappen) {
   EXPECT_EQ(error_of([&] { system.wait_until([] { return false; }, 0.1, "no complete scan"); }),
             "no complete scan within 0.1 s");
   EXPECT_FALSE(system.wait_for([] { return false; }, 0.05));
+}
+
+TEST_F(SystemTest, ANameStartsOnce) {
+  System system(settings());
+  system.start("scanner_io", {}, Lifetime::RunsToEnd);
+  EXPECT_THROW(system.start("scanner_io"), std::invalid_argument);
+  EXPECT_THROW(system.start_program("scanner_io", "/bin/true", {}), std::invalid_argument);
+}
+
+TEST_F(SystemTest, ATemporaryWorkFolderGoesWithTheSystem) {
+  const std::string folder = work_ + "/run";
+  {
+    SystemSettings temporary = settings();
+    temporary.work_dir = folder;
+    temporary.temporary = true;
+    System system(temporary);
+    system.start_program("sleeper", "/bin/sleep", {"30"});
+    EXPECT_EQ(access(folder.c_str(), F_OK), 0);
+  }
+  EXPECT_NE(access(folder.c_str(), F_OK), 0);
 }
 
 // The children end with the System (and one earlier when asked), without waiting out a sleep.

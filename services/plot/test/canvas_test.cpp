@@ -122,3 +122,34 @@ TEST(Canvas, AFileThatCannotBeWrittenIsNamed) {
 TEST(CloudPicture, AnEmptyCloudIsAnErrorNotAPicture) {
   EXPECT_THROW(write_cloud_picture(temporary("empty.png"), {}, "empty", CloudView::Top, false), std::runtime_error);
 }
+
+TEST(Canvas, APictureEndsWhenSaved) {
+  const std::string path = temporary("once.png");
+  Canvas canvas(path, {0, 0}, {1, 1});
+  canvas.save();
+  EXPECT_THROW(canvas.dot({0.5, 0.5}, 2, Colour::grey(0)), std::logic_error);
+  EXPECT_THROW(canvas.save(), std::logic_error);
+  std::remove(path.c_str());
+}
+
+// Text cairo cannot show (not UTF-8: a Latin-1 file name as the title) would put the picture
+// in error and drop all drawn after it: the bad byte becomes '?' instead.
+TEST(Canvas, TextThatIsNotUtf8CostsNothing) {
+  const std::string path = temporary("latin1.png");
+  {
+    Canvas canvas(path, {0, 0}, {10, 10});
+    canvas.heading("caf\xe9.pcd \xe2\x80", "\xff");
+    canvas.dot({5, 5}, 4, Colour::hex(0xFF0000));
+    canvas.save();
+  }
+  const Png png(path);
+  ASSERT_TRUE(png.ok());
+  EXPECT_EQ(png.at(60 + 5 * 68, 740 - 5 * 68), 0xFF0000u);
+  std::remove(path.c_str());
+}
+
+TEST(Canvas, AnUnsavedSvgLeavesNoFile) {
+  const std::string path = temporary("unsaved.svg");
+  { Canvas canvas(path, {0, 0}, {1, 1}); }
+  EXPECT_NE(access(path.c_str(), F_OK), 0);
+}

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "scanbus/clock.hpp"
+#include "scanbus/geometry_message.hpp"
 #include "scanbus/laser_scan_message.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/pose_estimation/pose_estimator.hpp"
@@ -28,14 +29,7 @@ geometry_msgs::msg::TransformStamped transform_message(double stamp, const std::
   message.header().stamp(to_stamp(stamp));
   message.header().frame_id(parent);
   message.child_frame_id(child);
-  message.transform().translation().x(t.translation().x());
-  message.transform().translation().y(t.translation().y());
-  message.transform().translation().z(t.translation().z());
-  const Eigen::Quaterniond q(t.linear());
-  message.transform().rotation().x(q.x());
-  message.transform().rotation().y(q.y());
-  message.transform().rotation().z(q.z());
-  message.transform().rotation().w(q.w());
+  message.transform(to_transform_message(t));
   return message;
 }
 
@@ -88,8 +82,7 @@ class PoseEstimation : public Service {
 
  private:
   void receive(const sensor_msgs::msg::Imu& imu) {
-    const auto& q = imu.orientation();
-    const Eigen::Quaterniond orientation(q.w(), q.x(), q.y(), q.z());
+    const Eigen::Quaterniond orientation = to_eigen(imu.orientation());
     if (!orientation.coeffs().allFinite() || std::abs(orientation.norm() - 1) > 0.01) {
       reject("imu_rejected", "IMU orientation is not a unit quaternion");
       return;
@@ -182,14 +175,7 @@ class PoseEstimation : public Service {
       geometry_msgs::msg::PoseWithCovarianceStamped message;
       message.header().stamp(to_stamp(pose.stamp));
       message.header().frame_id(frames_.map);
-      auto& p = message.pose().pose();
-      p.position().x(pose.position.x());
-      p.position().y(pose.position.y());
-      p.position().z(pose.position.z());
-      p.orientation().x(pose.orientation.x());
-      p.orientation().y(pose.orientation.y());
-      p.orientation().z(pose.orientation.z());
-      p.orientation().w(pose.orientation.w());
+      message.pose().pose(to_pose_message(pose.position, pose.orientation));
       // Position variances on the diagonal; the attitude's are not estimated (left 0).
       for (int axis = 0; axis < 3; ++axis)
         message.pose().covariance()[axis * 7] = pose.position_sigma[axis] * pose.position_sigma[axis];

@@ -2,13 +2,13 @@
 
 #include <cmath>
 
-#include "LaserScanPubSubTypes.h"
 #include "cdr.hpp"
 #include "scanbus/laser_scan_message.hpp"
 #include "scanbus/recorder/mcap_reader.hpp"
 #include "scanbus/recorder/mcap_writer.hpp"
 #include "scanbus/recorder/ros2msg.hpp"
 #include "scanbus/typed_topics.hpp"
+#include "scanbus_msgs/LaserScanPubSubTypes.h"
 #include "topic_channels.hpp"
 
 namespace scanbus::scan_matcher {

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "scanbus/clock.hpp"
+#include "scanbus/geometry_message.hpp"
 #include "scanbus/laser_scan_message.hpp"
 #include "scanbus/messages.hpp"
 #include "scanbus/scan_matcher/imu_guess.hpp"
@@ -71,8 +72,7 @@ class ScanMatcherService : public Service {
   }
 
   void receive(const sensor_msgs::msg::Imu& imu) {
-    const auto& q = imu.orientation();
-    const Eigen::Quaterniond orientation(q.w(), q.x(), q.y(), q.z());
+    const Eigen::Quaterniond orientation = to_eigen(imu.orientation());
     if (!orientation.coeffs().allFinite() || orientation.norm() < 0.5) {
       ++health_.counter("imu_rejected");
       return;

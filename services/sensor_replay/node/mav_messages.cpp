@@ -4,18 +4,19 @@
 #include <cstdio>
 #include <sstream>
 
-#include "FluidPressurePubSubTypes.h"
-#include "ImuPubSubTypes.h"
-#include "LaserScanPubSubTypes.h"
-#include "NavSatFixPubSubTypes.h"
-#include "PoseStampedPubSubTypes.h"
 #include "cdr.hpp"
 #include "scanbus/clock.hpp"
+#include "scanbus/geometry_message.hpp"
 #include "scanbus/laser_scan_message.hpp"
 #include "scanbus/recorder/mcap_reader.hpp"
 #include "scanbus/recorder/mcap_writer.hpp"
 #include "scanbus/recorder/ros2msg.hpp"
 #include "scanbus/typed_topics.hpp"
+#include "scanbus_msgs/FluidPressurePubSubTypes.h"
+#include "scanbus_msgs/ImuPubSubTypes.h"
+#include "scanbus_msgs/LaserScanPubSubTypes.h"
+#include "scanbus_msgs/NavSatFixPubSubTypes.h"
+#include "scanbus_msgs/PoseStampedPubSubTypes.h"
 #include "topic_channels.hpp"
 
 namespace scanbus::sensor_replay {
@@ -31,23 +32,12 @@ std_msgs::msg::Header header(double stamp, const std::string& frame) {
   return h;
 }
 
-geometry_msgs::msg::Quaternion quaternion(const Eigen::Quaterniond& q) {
-  geometry_msgs::msg::Quaternion message;
-  message.x(q.x());
-  message.y(q.y());
-  message.z(q.z());
-  message.w(q.w());
-  return message;
-}
-
-Eigen::Quaterniond quaternion(const geometry_msgs::msg::Quaternion& q) { return {q.w(), q.x(), q.y(), q.z()}; }
-
 }  // namespace
 
 sensor_msgs::msg::Imu imu_message(const ImuRecord& r, const std::string& frame) {
   sensor_msgs::msg::Imu imu;
   imu.header(header(r.stamp, frame));
-  imu.orientation(quaternion(r.orientation));
+  imu.orientation(to_quaternion_message(r.orientation));
   imu.angular_velocity_covariance()[0] = -1;  // not measured, as REP 145 says
   imu.linear_acceleration_covariance()[0] = -1;
   return imu;
@@ -77,10 +67,7 @@ sensor_msgs::msg::FluidPressure pressure_message(const BaroRecord& r, const std:
 geometry_msgs::msg::PoseStamped truth_message(const TruthRecord& r, const std::string& frame) {
   geometry_msgs::msg::PoseStamped pose;
   pose.header(header(r.stamp, frame));
-  pose.pose().position().x(r.position.x());
-  pose.pose().position().y(r.position.y());
-  pose.pose().position().z(r.position.z());
-  pose.pose().orientation(quaternion(r.orientation));
+  pose.pose(to_pose_message(r.position, r.orientation));
   return pose;
 }
 
@@ -145,7 +132,7 @@ MavLog read_mav_mcap(const std::string& path) {
         log.lasers.push_back(from_laser_scan_message(from_cdr<sensor_msgs::msg::LaserScanPubSubType>(m.data, m.size)));
       } else if (topic == topics::kImu.name) {
         const auto imu = from_cdr<sensor_msgs::msg::ImuPubSubType>(m.data, m.size);
-        log.imus.push_back({to_seconds(imu.header().stamp()), quaternion(imu.orientation())});
+        log.imus.push_back({to_seconds(imu.header().stamp()), to_eigen(imu.orientation())});
       } else if (topic == topics::kFix.name) {
         const auto fix = from_cdr<sensor_msgs::msg::NavSatFixPubSubType>(m.data, m.size);
         log.fixes.push_back({to_seconds(fix.header().stamp()), fix.latitude(), fix.longitude(), fix.altitude(),
@@ -155,9 +142,8 @@ MavLog read_mav_mcap(const std::string& path) {
         log.baros.push_back({to_seconds(pressure.header().stamp()), pressure.fluid_pressure()});
       } else if (topic == topics::kTruthPose.name) {
         const auto pose = from_cdr<geometry_msgs::msg::PoseStampedPubSubType>(m.data, m.size);
-        const auto& p = pose.pose().position();
         log.truths.push_back(
-            {to_seconds(pose.header().stamp()), {p.x(), p.y(), p.z()}, quaternion(pose.pose().orientation())});
+            {to_seconds(pose.header().stamp()), to_eigen(pose.pose().position()), to_eigen(pose.pose().orientation())});
       }
     });
     const auto meta = reader.metadata().find(kMetadataName);

@@ -6,11 +6,11 @@
 
 #include <string>
 
-#include "FluidPressure.h"
-#include "Imu.h"
-#include "NavSatFix.h"
-#include "PoseStamped.h"
 #include "scanbus/sensor_replay/mav_log.hpp"
+#include "scanbus_msgs/FluidPressure.h"
+#include "scanbus_msgs/Imu.h"
+#include "scanbus_msgs/NavSatFix.h"
+#include "scanbus_msgs/PoseStamped.h"
 
 namespace scanbus::sensor_replay {
 

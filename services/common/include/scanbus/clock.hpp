@@ -3,7 +3,7 @@
 
 #include <chrono>
 
-#include "Time.h"
+#include "scanbus_msgs/Time.h"
 
 namespace scanbus {
 

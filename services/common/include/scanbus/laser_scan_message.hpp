@@ -4,8 +4,8 @@
 
 #include <string>
 
-#include "LaserScanPubSubTypes.h"
 #include "scanbus/sensor/laser_scan.hpp"
+#include "scanbus_msgs/LaserScanPubSubTypes.h"
 
 namespace scanbus {
 

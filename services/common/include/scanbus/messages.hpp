@@ -4,21 +4,21 @@
 #include <string>
 #include <vector>
 
-#include "AssemblePubSubTypes.h"
-#include "FluidPressurePubSubTypes.h"
-#include "HealthPubSubTypes.h"
-#include "ImuPubSubTypes.h"
-#include "LaserScanPubSubTypes.h"
-#include "NavSatFixPubSubTypes.h"
-#include "PointCloud2PubSubTypes.h"
-#include "PoseStampedPubSubTypes.h"
-#include "PoseWithCovarianceStampedPubSubTypes.h"
-#include "RoomMeasurementPubSubTypes.h"
-#include "ScanMatchPubSubTypes.h"
-#include "ScannerCommandPubSubTypes.h"
-#include "ScannerStatusPubSubTypes.h"
-#include "SphericalScanPubSubTypes.h"
-#include "TFMessagePubSubTypes.h"
+#include "scanbus_msgs/AssemblePubSubTypes.h"
+#include "scanbus_msgs/FluidPressurePubSubTypes.h"
+#include "scanbus_msgs/HealthPubSubTypes.h"
+#include "scanbus_msgs/ImuPubSubTypes.h"
+#include "scanbus_msgs/LaserScanPubSubTypes.h"
+#include "scanbus_msgs/NavSatFixPubSubTypes.h"
+#include "scanbus_msgs/PointCloud2PubSubTypes.h"
+#include "scanbus_msgs/PoseStampedPubSubTypes.h"
+#include "scanbus_msgs/PoseWithCovarianceStampedPubSubTypes.h"
+#include "scanbus_msgs/RoomMeasurementPubSubTypes.h"
+#include "scanbus_msgs/ScanMatchPubSubTypes.h"
+#include "scanbus_msgs/ScannerCommandPubSubTypes.h"
+#include "scanbus_msgs/ScannerStatusPubSubTypes.h"
+#include "scanbus_msgs/SphericalScanPubSubTypes.h"
+#include "scanbus_msgs/TFMessagePubSubTypes.h"
 
 namespace scanbus {
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "PointCloud2.h"
 #include "scanbus/cloud_point.hpp"
+#include "scanbus_msgs/PointCloud2.h"
 
 namespace scanbus {
 

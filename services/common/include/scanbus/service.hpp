@@ -16,9 +16,9 @@
 #include <thread>
 #include <vector>
 
-#include "HealthPubSubTypes.h"
 #include "scanbus/config.hpp"
 #include "scanbus/dds.hpp"
+#include "scanbus_msgs/HealthPubSubTypes.h"
 
 namespace scanbus {
 

@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
-#include "RoomMeasurementPubSubTypes.h"
 #include "scanbus/room_measurement/room_message.hpp"
+#include "scanbus_msgs/RoomMeasurementPubSubTypes.h"
 
 using namespace scanbus::room_measurement;
 

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "RoomMeasurement.h"
 #include "scanbus/cloud_point.hpp"
 #include "scanbus/dds.hpp"
+#include "scanbus_msgs/RoomMeasurement.h"
 
 namespace scanbus::launch {
 

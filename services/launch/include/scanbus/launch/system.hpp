@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -30,11 +31,9 @@ struct ServiceConfig {
 
   ServiceConfig() = default;
   // A copy has its own settings (a copied YAML::Node is the same node: setting a key in one
-  // config would set it in every copy).
+  // config would set it in every copy). No moves: yaml-cpp's would share the node too.
   ServiceConfig(const ServiceConfig& other);
   ServiceConfig& operator=(const ServiceConfig& other);
-  ServiceConfig(ServiceConfig&&) = default;
-  ServiceConfig& operator=(ServiceConfig&&) = default;
 
   // The file's text, the service's section under `service_name`.
   std::string to_yaml(const std::string& service_name) const;
@@ -44,6 +43,7 @@ struct SystemSettings {
   std::string executable;  // the scanbus command, which runs `scanbus run <service>`
   std::string work_dir;    // created when missing; each child's config and log go here
   DdsSettings dds;         // every child's domain and profile, through its environment
+  bool temporary = false;  // the work folder goes with the System, after its children (tests)
 };
 
 // Whether a child ending on its own is a failure (a service) or its job done (a replay).
@@ -57,6 +57,7 @@ class System {
   System& operator=(const System&) = delete;
 
   // `scanbus run <service> --config <work_dir>/<service>.yaml`, its output in <service>.log.
+  // Each name (service or log) once: a second would overwrite the first's files.
   ChildProcess& start(const std::string& service, const ServiceConfig& config = {},
                       Lifetime lifetime = Lifetime::UntilStopped);
   // Another command of the scanbus executable (a simulator), its output in <log_name>.log.
@@ -90,6 +91,7 @@ class System {
   };
   SystemSettings settings_;
   std::vector<Child> children_;
+  std::set<std::string> log_names_;
 };
 
 }  // namespace scanbus::launch

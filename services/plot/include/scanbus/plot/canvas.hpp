@@ -70,10 +70,13 @@ class Canvas {
   void heading(const std::string& title, const std::string& subtitle = "");
   void legend(const std::string& text);
 
-  // Writes the file; throws std::runtime_error naming it when it cannot.
+  // Writes the file and ends the picture (drawing after it throws std::logic_error); throws
+  // std::runtime_error naming the file when it cannot be written or the drawing failed. A
+  // picture never saved leaves no file.
   void save();
 
  private:
+  cairo_t* context() const;
   void fitted_text(const Eigen::Vector2d& pixel, const std::string& text, double font);
 
   std::string path_;

@@ -2,9 +2,9 @@
 // with a colour per wall (x y z rgb, the layout RViz2 colours by).
 #pragma once
 
-#include "PointCloud2.h"
-#include "RoomMeasurement.h"
 #include "scanbus/room_measurement/room_measurement.hpp"
+#include "scanbus_msgs/PointCloud2.h"
+#include "scanbus_msgs/RoomMeasurement.h"
 
 namespace scanbus::room_measurement {
 

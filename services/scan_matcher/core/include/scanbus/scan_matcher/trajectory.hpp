@@ -1,0 +1,36 @@
+// A log's trajectory as the scan matcher makes it, and the trajectory file that carries one
+// between tools (`scanbus scanmatch eval --trajectory`, `scanbus scanmatch score`).
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "scanbus/scan_matcher/laser_log.hpp"
+#include "scanbus/scan_matcher/pl_icp.hpp"
+
+namespace scanbus::scan_matcher {
+
+struct Trajectory {
+  std::vector<double> stamps;  // s
+  std::vector<Pose2> poses;    // poses[i] at stamps[i]
+};
+
+// One line per pose, "stamp x y theta" (s, m, rad), as TUM-style trajectory tools read them;
+// lines starting with '#' are comments. Both throw LogError naming the file (and the line).
+void write_trajectory(const std::string& path, const Trajectory& trajectory);
+Trajectory read_trajectory(const std::string& path);
+
+struct TrackedLog {
+  Trajectory trajectory;        // every scan's pose, failed matches held
+  size_t failed = 0;            // matches after the first scan that were not Ok
+  double matching_seconds = 0;  // wall time inside the matcher
+};
+
+// Every scan of the log through `matcher` in order; with `odometry_guess`, the wheel
+// odometry's increment is each match's initial guess. `progress(done, total)` after each scan.
+TrackedLog track_log(ScanMatcher& matcher, const std::vector<LaserRecord>& records, bool odometry_guess,
+                     const std::function<void(size_t, size_t)>& progress = {});
+
+}  // namespace scanbus::scan_matcher
