@@ -9,8 +9,7 @@ Eigen::Vector3d to_eigen(const geometry_msgs::msg::Point& p) { return {p.x(), p.
 Eigen::Isometry3d to_eigen(const geometry_msgs::msg::Transform& t) {
   Eigen::Isometry3d result = Eigen::Isometry3d::Identity();
   result.translation() = Eigen::Vector3d(t.translation().x(), t.translation().y(), t.translation().z());
-  const auto& q = t.rotation();
-  result.linear() = Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z()).normalized().toRotationMatrix();
+  result.linear() = to_eigen(t.rotation()).normalized().toRotationMatrix();
   return result;
 }
 
