@@ -6,19 +6,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <iomanip>
 #include <iostream>
-#include <sstream>
 
 #include "commands.hpp"
 #include "mav_messages.hpp"
-#include "scanbus/cloud_dem/geotiff.hpp"
 #include "scanbus/cloud_io/cloud_files.hpp"
 #include "scanbus/config.hpp"
-#include "scanbus/ground_evaluation/flight_evaluation.hpp"
+#include "scanbus/ground_evaluation/flight_files.hpp"
 #include "scanbus/mav_sim/flight.hpp"
-#include "scanbus/plot/cloud_picture.hpp"
 #include "scanbus/pose_estimation/pose_estimator.hpp"
 
 namespace scanbus::cli {
@@ -62,12 +57,7 @@ mav_sim::FlightSettings flight_settings(const FlightOptions& options) {
                      : options.pattern == "climb"      ? mav_sim::FlightPattern::climb
                      : options.pattern == "hover-turn" ? mav_sim::FlightPattern::hover_turn
                                                        : mav_sim::FlightPattern::paper;
-  if (!options.terrain.empty()) {
-    const Config file = Config::load(options.terrain);
-    if (!file.has("terrain")) file.missing("terrain");
-    settings.terrain = mav_sim::terrain_from_config(file.section("terrain"));
-    file.check_all_read();
-  }
+  if (!options.terrain.empty()) settings.terrain = mav_sim::load_terrain(options.terrain);
   return settings;
 }
 
@@ -145,8 +135,6 @@ std::string performance_text(const BoxEvaluation& result) {
   return text;
 }
 
-constexpr double kEdgeMargin = 0.1;  // m: ground points this near a box's edge or a step are not scored
-
 struct EvalMavOptions {
   std::vector<std::string> logs;
   std::vector<int> scenarios{1, 2, 3, 4};
@@ -156,39 +144,6 @@ struct EvalMavOptions {
   bool no_ground = false;
   std::string config;  // a pose_estimation service config whose fusion settings to evaluate
 };
-
-// FLIGHT_SOURCE.pcd and .png for each of the three heights, e.g. scenario_IV_fused.pcd, and
-// FLIGHT_heights.csv: the truth, the four heights, the scan's ground clearance and the fused
-// height's sigma at every pose, for plotting; FLIGHT_fused_dem.tif: the fused cloud's
-// elevation grid, georeferenced from the log's origin.
-void write_clouds(const std::string& folder, const std::string& flight, const FlightEvaluation& evaluation,
-                  const sensor_replay::MavLog& log) {
-  std::string stem = flight;
-  std::replace(stem.begin(), stem.end(), ' ', '_');
-  stem = stem.substr(stem.find_last_of('/') + 1);
-  std::ofstream heights(folder + "/" + stem + "_heights.csv");
-  heights << "stamp,truth,barometer,scan_matcher,fused,gps,clearance,fused_sigma\n";
-  for (const auto& sample : evaluation.heights)
-    heights << std::fixed << std::setprecision(4) << sample.stamp << ',' << sample.truth << ',' << sample.height[0]
-            << ',' << sample.height[1] << ',' << sample.height[2] << ',' << sample.height[3] << ',' << sample.clearance
-            << ',' << sample.fused_sigma << '\n';
-  for (int source = 0; source < ground_evaluation::kHeightSources; ++source) {
-    if (evaluation.cloud[source].empty()) continue;
-    std::vector<CloudPoint> points;
-    points.reserve(evaluation.cloud[source].size());
-    for (const auto& p : evaluation.cloud[source]) points.push_back({p, 0.0f});
-    const std::string path = folder + "/" + stem + "_" + ground_evaluation::kHeightSourceNames[source];
-    cloud_io::write_pcd(path + ".pcd", points);
-    plot::write_cloud_picture(path + ".png", points,
-                              flight + ", height from " + ground_evaluation::kHeightSourceNames[source],
-                              plot::CloudView::Top, false);
-  }
-  if (evaluation.elevation.filled() > 0) {
-    const auto& origin = log.meta_of("origin", 3);
-    cloud_dem::write_geotiff(folder + "/" + stem + "_fused_dem.tif", evaluation.elevation,
-                             {origin[0], origin[1], origin[2]});
-  }
-}
 
 nlohmann::json ground_error_json(const ground_evaluation::GroundModelError& g) {
   nlohmann::json json{{"rmse", g.rmse}, {"median", g.median}, {"p95", g.p95}, {"bias", g.bias}, {"points", g.points}};
@@ -259,11 +214,7 @@ int run_eval_mav(EvalMavOptions options) {
     try {
       ground_evaluation::FlightEvaluationSettings settings = base;
       settings.ground_clearance = settings.ground_clearance && !options.no_ground;
-      if (auto world = mav_sim::world_of_log(log)) {
-        settings.true_ground = [world = std::move(*world)](const Eigen::Vector2d& xy) {
-          return world.scored_height(xy, kEdgeMargin);
-        };
-      }
+      settings.true_ground = mav_sim::scored_ground_of_log(log);
       evaluations.push_back(ground_evaluation::evaluate_flight(log, settings, [&](size_t done, size_t total) {
         if (progress)
           std::printf("\revaluating %s: %3.0f %%   ", label.c_str(), 100.0 * done / total), std::fflush(stdout);
@@ -274,8 +225,8 @@ int run_eval_mav(EvalMavOptions options) {
       return 2;
     }
     try {
-      if (!options.out.empty()) write_clouds(options.out, name, evaluations.back(), log);
-    } catch (const cloud_dem::GeoTiffError& e) {
+      if (!options.out.empty()) ground_evaluation::write_flight_files(options.out, name, evaluations.back(), log);
+    } catch (const std::runtime_error& e) {
       std::cerr << "scanbus eval mav: " << name << ": " << e.what() << "\n";
       return 2;
     }
@@ -353,16 +304,13 @@ struct EvalGroundOptions {
 // of the simulated flight it was built from.
 int run_eval_ground(const EvalGroundOptions& options) {
   try {
-    const auto world = mav_sim::world_of_log(sensor_replay::load_mav_log(options.log));
-    if (!world) {
+    auto truth = mav_sim::scored_ground_of_log(sensor_replay::load_mav_log(options.log));
+    if (!truth) {
       std::cerr << "scanbus eval ground: " << options.log << ": not measured: the log does not carry its true ground "
                 << "(META scenario: a simulated flight's)\n";
       return 2;
     }
     const auto cloud = cloud_io::read_cloud(options.cloud, cloud_io::metres_per_unit(options.unit));
-    std::function<std::optional<double>(const Eigen::Vector2d&)> truth = [&](const Eigen::Vector2d& xy) {
-      return world->scored_height(xy, kEdgeMargin);
-    };
     if (options.cells > 0) truth = ground_evaluation::cell_average_truth(truth, options.cells);
     const auto error = ground_evaluation::ground_model_error(cloud, truth);
     if (options.json) {

@@ -105,9 +105,8 @@ TEST(GroundModelError, ComparesTheCloudsTiltWithTheTerrains) {
 
 // A simulated flight evaluated with its true ground (points 0.1 m from an edge not scored).
 static FlightEvaluation evaluate_against_its_ground(const sensor_replay::MavLog& log) {
-  const auto world = mav_sim::world_of_log(log);
   FlightEvaluationSettings evaluation;
-  if (world) evaluation.true_ground = [&](const Eigen::Vector2d& xy) { return world->scored_height(xy, 0.1); };
+  evaluation.true_ground = mav_sim::scored_ground_of_log(log);
   return evaluate_flight(log, evaluation);
 }
 

@@ -242,6 +242,12 @@ std::optional<GroundWorld> world_of_log(const sensor_replay::MavLog& log) {
   return scenario_world(settings);
 }
 
+std::function<std::optional<double>(const Eigen::Vector2d&)> scored_ground_of_log(const sensor_replay::MavLog& log) {
+  auto world = world_of_log(log);
+  if (!world) return {};
+  return [world = std::move(*world)](const Eigen::Vector2d& xy) { return world.scored_height(xy, kScoredEdgeMargin); };
+}
+
 namespace {
 
 // Every error and sigma of the sensors times noise_scale (rates and correlation times stay).

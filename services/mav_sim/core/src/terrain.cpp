@@ -120,4 +120,12 @@ Terrain terrain_from_config(const Config& section) {
   return terrain;
 }
 
+Terrain load_terrain(const std::string& path) {
+  const Config file = Config::load(path);
+  if (!file.has("terrain")) file.missing("terrain");
+  const Terrain terrain = terrain_from_config(file.section("terrain"));
+  file.check_all_read();
+  return terrain;
+}
+
 }  // namespace scanbus::mav_sim

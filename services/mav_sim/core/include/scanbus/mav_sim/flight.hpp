@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -114,6 +115,13 @@ Eigen::Isometry3d laser_in_body(const LaserSettings& laser);
 // The true ground of a simulated flight's log (its META scenario, boxes and terrain_*
 // records), or none for a log that does not say (a real flight).
 std::optional<GroundWorld> world_of_log(const sensor_replay::MavLog& log);
+
+// Ground cloud points this near a box's edge or a step's ramp are not scored (m).
+constexpr double kScoredEdgeMargin = 0.1;
+
+// What a ground model of the log's flight is scored against: its world's scored_height with
+// kScoredEdgeMargin, or an empty function for a log that does not carry its ground.
+std::function<std::optional<double>(const Eigen::Vector2d&)> scored_ground_of_log(const sensor_replay::MavLog& log);
 
 // Flies the scenario and returns every sensor sample and the truth (at 100 Hz). Throws
 // std::invalid_argument naming a setting out of range (also a terrain that comes within

@@ -81,4 +81,8 @@ std::optional<TerrainProblem> terrain_problem(const Terrain& terrain);
 // steps, roughness, roughness_wavelength, seed. Throws ConfigError naming the key.
 Terrain terrain_from_config(const Config& section);
 
+// The terrain of a YAML file's `terrain` map (config/terrain/); throws ConfigError naming the
+// file and what is wrong in it, also a key nobody reads.
+Terrain load_terrain(const std::string& path);
+
 }  // namespace scanbus::mav_sim
