@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
+#include <vector>
 
 #include "commands.hpp"
 #include "room_report.hpp"
@@ -16,6 +18,7 @@
 #include "scanbus/plot/cloud_picture.hpp"
 #include "scanbus/room_measurement/room_message.hpp"
 #include "scanbus/room_plan/floor_plan.hpp"
+#include "scanbus/service.hpp"
 
 namespace scanbus::cli {
 
@@ -28,17 +31,31 @@ struct DemoOptions {
   double speed = 40;
   double mav_rate = 8;
   bool mav = true;
+  int foxglove_port = 0;  // > 0: the Foxglove bridge on this port, and the services kept until Ctrl-C
 };
 
 // The MAV paper's scenario IV through the services: poses and cloud back over DDS.
-launch::MavFlightResult fly_mav(const DemoOptions& options) {
+launch::MavFlightResult fly_mav(launch::System& system, const DemoOptions& options) {
   launch::MavFlightOptions flight;
-  flight.executable = own_executable();
-  flight.dds = options.dds.settings();
   flight.rate = options.mav_rate;
-  flight.work_dir = options.out + "/mav";
   flight.progress = !options.json && isatty(STDOUT_FILENO);
-  return launch::run_mav_flight(flight);
+  return launch::run_mav_flight(system, flight);
+}
+
+// The bridge comes first, so a Foxglove opened now shows the scan and the flight live.
+std::string start_foxglove_bridge(launch::System& system, int port) {
+  launch::ServiceConfig config;
+  config.settings["port"] = port;
+  system.start("foxglove_bridge", config);
+  return "ws://127.0.0.1:" + std::to_string(port);
+}
+
+// After the results: the services' last samples stay on the bus (latched) for Foxglove.
+void keep_running(const std::vector<launch::System*>& systems, const std::string& address) {
+  std::printf("the services keep running for Foxglove at %s until Ctrl-C\n", address.c_str());
+  std::fflush(stdout);
+  while (!StopSignal::wait_for(std::chrono::milliseconds(200)))
+    for (auto* system : systems) system->check();
 }
 
 nlohmann::json mav_json(const launch::MavFlightResult& mav, const std::vector<std::string>& files) {
@@ -56,16 +73,23 @@ nlohmann::json mav_json(const launch::MavFlightResult& mav, const std::vector<st
 
 int run_demo(const DemoOptions& options) {
   std::filesystem::create_directories(options.out);
+  StopSignal::install();
+  launch::System room_system({own_executable(), options.out, options.dds.settings()});
+  std::string foxglove;
+  if (options.foxglove_port > 0) {
+    foxglove = start_foxglove_bridge(room_system, options.foxglove_port);
+    if (!options.json)
+      std::printf("Foxglove: open %s (Open connection, Foxglove WebSocket; layout: docs/foxglove_layout.json)\n",
+                  foxglove.c_str()),
+          std::fflush(stdout);
+  }
   launch::RoomScanOptions scan;
-  scan.executable = own_executable();
-  scan.dds = options.dds.settings();
   scan.speed = options.speed;
   scan.resolution = 1;  // the thesis's usual setting: 20 RPM
   scan.scans = 3;       // interleaved by eq. 4.9: one scan is too sparse for the histogram filter
   scan.measure = true;
-  scan.work_dir = options.out;
   scan.progress = !options.json && isatty(STDOUT_FILENO);
-  const launch::RoomScanResult result = launch::run_room_scan(scan);
+  const launch::RoomScanResult result = launch::run_room_scan(room_system, scan);
 
   Eigen::Vector3f low = result.points.front().position, high = low;
   for (const auto& point : result.points) {
@@ -96,8 +120,10 @@ int run_demo(const DemoOptions& options) {
                       {"room", room_json(room)},
                       {"files", {pcd, png, plan, drawing}}};
   bool mav_ok = true;
+  std::optional<launch::System> mav_system;
   if (options.mav) {
-    const launch::MavFlightResult mav = fly_mav(options);
+    mav_system.emplace(launch::SystemSettings{own_executable(), options.out + "/mav", options.dds.settings()});
+    const launch::MavFlightResult mav = fly_mav(*mav_system, options);
     std::vector<CloudPoint> points;
     for (const auto& p : mav.cloud) points.push_back({p, 0.0f});
     const std::string mav_pcd = options.out + "/mav_cloud.pcd", top = options.out + "/mav_top.png",
@@ -127,7 +153,13 @@ int run_demo(const DemoOptions& options) {
       std::printf("wrote %s, %s and %s\n", mav_pcd.c_str(), top.c_str(), side.c_str());
     }
   }
-  if (options.json) std::cout << json << "\n";
+  if (!foxglove.empty()) json["foxglove"] = foxglove;
+  if (options.json) std::cout << json << std::endl;
+  if (!foxglove.empty()) {
+    std::vector<launch::System*> systems{&room_system};
+    if (mav_system) systems.push_back(&*mav_system);
+    keep_running(systems, foxglove);
+  }
   return room.status == room_measurement::RoomStatus::Ok && mav_ok ? 0 : 1;
 }
 
@@ -144,6 +176,13 @@ void add_demo_command(CLI::App& app, int& exit_code) {
   command->add_option("--mav-rate", options.mav_rate, "MAV flight's replay, times real time")
       ->check(CLI::Range(0.1, 100.0));
   command->add_flag("!--no-mav", options.mav, "Only the room, not the MAV flight");
+  command
+      ->add_option("--foxglove", options.foxglove_port,
+                   "Also run the Foxglove bridge on this port of 127.0.0.1 (8765 when given without a value), "
+                   "and keep the services running after the result until Ctrl-C")
+      ->expected(0, 1)
+      ->default_str("8765")
+      ->check(CLI::Range(1, 65535));
   command->add_flag("--json", options.json, "Print the result as one JSON object, no progress");
   add_dds_options(*command, options.dds);
   on_run(*command, exit_code, [] { return run_demo(options); });

@@ -22,12 +22,11 @@ struct ScanOptions {
 
 int run_scan(ScanOptions options) {
   const std::filesystem::path out(options.out);
-  options.scan.work_dir = out.has_parent_path() ? out.parent_path().string() : ".";
-  std::filesystem::create_directories(options.scan.work_dir);
+  const std::string work_dir = out.has_parent_path() ? out.parent_path().string() : ".";
+  std::filesystem::create_directories(work_dir);
   options.scan.progress = !options.json && isatty(STDOUT_FILENO);
-  options.scan.executable = own_executable();
-  options.scan.dds = options.dds.settings();
-  const launch::RoomScanResult result = launch::run_room_scan(options.scan);
+  launch::System system({own_executable(), work_dir, options.dds.settings()});
+  const launch::RoomScanResult result = launch::run_room_scan(system, options.scan);
   cloud_io::write_pcd(options.out, result.points);
   if (options.json) {
     std::cout << nlohmann::json{{"points", result.points.size()},

@@ -38,7 +38,8 @@ std::map<std::string, std::string> dds_environment(const DdsSettings& settings) 
           {"SCANBUS_DDS_PROFILE", settings.profile}};
 }
 
-Participant::Participant(const DdsSettings& settings, const std::string& name) {
+Participant::Participant(const DdsSettings& settings, const std::string& name,
+                         dds::DomainParticipantListener* listener) {
   auto* factory = dds::DomainParticipantFactory::get_instance();
   dds::DomainParticipantQos qos;
   if (!settings.profile_file.empty()) {
@@ -62,7 +63,7 @@ Participant::Participant(const DdsSettings& settings, const std::string& name) {
       throw DdsError("built-in DDS profile has no participant profile '" + settings.profile + "'");
   }
   qos.name(name);
-  participant_ = factory->create_participant(settings.domain, qos);
+  participant_ = factory->create_participant(settings.domain, qos, listener, dds::StatusMask::none());
   if (!participant_) throw DdsError("cannot create DDS participant on domain " + std::to_string(settings.domain));
   publisher_ = participant_->create_publisher(dds::PUBLISHER_QOS_DEFAULT);
   subscriber_ = participant_->create_subscriber(dds::SUBSCRIBER_QOS_DEFAULT);
@@ -71,6 +72,7 @@ Participant::Participant(const DdsSettings& settings, const std::string& name) {
 
 Participant::~Participant() {
   if (!participant_) return;
+  participant_->set_listener(nullptr);  // no discovery callback into an owner being destroyed
   participant_->delete_contained_entities();
   dds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
 }

@@ -63,9 +63,8 @@ FlightConfigs flight_configs(const sensor_replay::MavLog& log, const std::string
 
 }  // namespace
 
-MavFlightResult run_mav_flight(const MavFlightOptions& options) {
+MavFlightResult run_mav_flight(System& system, const MavFlightOptions& options) {
   StopSignal::install();
-  System system({options.executable, options.work_dir, options.dds});
   mav_sim::FlightSettings settings;
   settings.scenario = options.scenario;
   settings.duration = options.duration;
@@ -74,7 +73,7 @@ MavFlightResult run_mav_flight(const MavFlightOptions& options) {
   sensor_replay::write_mav_log(log_path, log);
   const FlightConfigs configs = flight_configs(log, log_path, options.rate);
 
-  Participant participant(options.dds, "scanbus/demo");
+  Participant participant(system.dds(), "scanbus/demo");
   std::mutex mutex;
   std::vector<std::pair<double, double>> heights;  // stamp, fused height
   Reader<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType> poses(

@@ -27,9 +27,8 @@ ServiceConfig service_config() {
 
 }  // namespace
 
-RoomScanResult run_room_scan(const RoomScanOptions& options) {
+RoomScanResult run_room_scan(System& system, const RoomScanOptions& options) {
   StopSignal::install();
-  System system({options.executable, options.work_dir, options.dds});
   const std::string link = system.path("scanner.tty");
   ServiceConfig scanner_io = service_config();
   scanner_io.settings["port"] = link;
@@ -41,7 +40,7 @@ RoomScanResult run_room_scan(const RoomScanOptions& options) {
   ServiceConfig room_measurement = service_config();
   room_measurement.settings["scans"] = options.scans;
 
-  Participant participant(options.dds, "scanbus/scan");
+  Participant participant(system.dds(), "scanbus/scan");
   std::mutex mutex;
   RoomScanResult result;
   int scans = 0;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
@@ -64,7 +65,10 @@ std::map<std::string, std::string> dds_environment(const DdsSettings& settings);
 
 class Participant {
  public:
-  Participant(const DdsSettings& settings, const std::string& name);
+  // `listener` (it must outlive the participant) hears discovery from the first moment:
+  // set later, it would miss the endpoints found meanwhile.
+  Participant(const DdsSettings& settings, const std::string& name,
+              eprosima::fastdds::dds::DomainParticipantListener* listener = nullptr);
   ~Participant();
   Participant(const Participant&) = delete;
   Participant& operator=(const Participant&) = delete;

@@ -11,16 +11,14 @@
 
 #include "scanbus/dds.hpp"
 #include "scanbus/ground_evaluation/box_evaluation.hpp"
+#include "scanbus/launch/system.hpp"
 
 namespace scanbus::launch {
 
 struct MavFlightOptions {
-  std::string executable;  // the scanbus command
-  DdsSettings dds;
   int scenario = 4;
   double duration = 180;  // s of flight
   double rate = 8;        // replay, times real time
-  std::string work_dir;   // the log, the configs and the processes' logs
   bool progress = false;
   double timeout = 300;  // s
 };
@@ -33,7 +31,9 @@ struct MavFlightResult {
   Eigen::Vector3d box_size = Eigen::Vector3d::Zero();
 };
 
-// Throws std::runtime_error naming what failed (a process that died, with its log).
-MavFlightResult run_mav_flight(const MavFlightOptions& options);
+// The services start in `system` (the log, the configs and the processes' logs in its work
+// folder) and stay there, running, after the replay ends, until the caller stops it or lets
+// it go. Throws std::runtime_error naming what failed (a process that died, with its log).
+MavFlightResult run_mav_flight(System& system, const MavFlightOptions& options);
 
 }  // namespace scanbus::launch

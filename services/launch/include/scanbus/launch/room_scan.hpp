@@ -9,17 +9,15 @@
 
 #include "scanbus/cloud_point.hpp"
 #include "scanbus/dds.hpp"
+#include "scanbus/launch/system.hpp"
 #include "scanbus_msgs/RoomMeasurement.h"
 
 namespace scanbus::launch {
 
 struct RoomScanOptions {
-  std::string executable;  // the scanbus command
-  DdsSettings dds;
   std::string room_file;  // empty: the simulator's built-in room
   double speed = 1.0;
   int resolution = 1;
-  std::string work_dir;   // logs and the pty link go here
   bool progress = false;  // a line of progress on the terminal
   double timeout = 600;   // s
   int scans = 1;          // whole scans in a row (each next one interleaves its pitch, eq. 4.9)
@@ -32,7 +30,9 @@ struct RoomScanResult {
   std::optional<scanbus::msg::RoomMeasurement> room;
 };
 
-// Throws std::runtime_error naming what failed (a process that died, with its log).
-RoomScanResult run_room_scan(const RoomScanOptions& options);
+// The processes start in `system` (logs and the pty link in its work folder) and stay
+// there, running, until the caller stops it or lets it go. Throws std::runtime_error naming
+// what failed (a process that died, with its log).
+RoomScanResult run_room_scan(System& system, const RoomScanOptions& options);
 
 }  // namespace scanbus::launch

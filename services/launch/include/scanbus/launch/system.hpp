@@ -83,6 +83,7 @@ class System {
 
   // <work_dir>/<file>
   std::string path(const std::string& file) const;
+  const DdsSettings& dds() const { return settings_.dds; }
 
  private:
   struct Child {

@@ -1,0 +1,231 @@
+#include "foxglove_bridge_node.hpp"
+
+#include <chrono>
+#include <set>
+
+#include "raw_endpoints.hpp"
+#include "scanbus/foxglove_bridge/channels.hpp"
+#include "scanbus/recorder/ros2msg.hpp"
+#include "websocket_server.hpp"
+
+namespace scanbus::foxglove_bridge {
+
+namespace {
+
+namespace dds = eprosima::fastdds::dds;
+using eprosima::fastrtps::rtps::GUID_t;
+using eprosima::fastrtps::rtps::WriterDiscoveryInfo;
+
+ServerSettings server_settings_from_config(const Config& section) {
+  ServerSettings settings;
+  settings.address = section.text("address", settings.address);
+  settings.port = static_cast<uint16_t>(section.integer("port", settings.port, 0, 65535));
+  settings.client_queue_bytes = static_cast<size_t>(
+      section.number("client_queue_size", settings.client_queue_bytes / 1048576.0, 1, 65536) * 1048576);
+  return settings;
+}
+
+uint64_t now_ns() {
+  return static_cast<uint64_t>(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+          .count());
+}
+
+// How far behind a client is, for its status message and the log.
+std::string drops_text(const ClientQueue& queue, const std::map<uint32_t, std::string>& topic_of_channel) {
+  std::string text = std::to_string(queue.dropped) +
+                     " messages dropped because this client reads more slowly than "
+                     "they arrive (";
+  bool first = true;
+  for (const auto& [channel, count] : queue.dropped_by_channel) {
+    const auto topic = topic_of_channel.find(channel);
+    text += (first ? "" : ", ") + (topic == topic_of_channel.end() ? "?" : topic->second) + " " + std::to_string(count);
+    first = false;
+  }
+  return text + ")";
+}
+
+class FoxgloveBridge : public Service, public dds::DomainParticipantListener {
+ public:
+  FoxgloveBridge(ServiceContext& context, ServerSettings settings)
+      : context_(context), settings_(std::move(settings)) {}
+
+  int run() override {
+    WebSocketServer server(settings_, {[this](ClientId client) { opened(client); },
+                                       [this](ClientId client, const std::string& text) { request(client, text); },
+                                       [this](ClientId client, const ClientQueue& last) { closed(client, last); }});
+    server_ = &server;
+    context_.log->info("Foxglove WebSocket server on ws://{}:{}", settings_.address, server.port());
+    {
+      // A participant of its own, listening for writers from its first moment: its raw
+      // readers register catalogue type names the service's participant holds with generated code.
+      Participant raw(dds_settings_from_config(context_.config.section("dds")), "scanbus/foxglove_bridge/raw", this);
+      raw.set_qos_overrides(context_.config.section("qos"));
+      raw_ = &raw;
+      while (!StopSignal::wait_for(std::chrono::milliseconds(100))) {
+        match_readers();
+        report();
+      }
+      std::lock_guard<std::mutex> lock(readers_mutex_);
+      readers_.clear();
+      raw_ = nullptr;
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    server_ = nullptr;
+    return 0;
+  }
+
+  // Writers of catalogue topics come and go with the services (DDS discovery thread).
+  void on_publisher_discovery(dds::DomainParticipant*, WriterDiscoveryInfo&& info) override {
+    const std::string topic = info.info.topicName().to_string();
+    const TopicInfo* known = find_topic(topic);
+    if (!known || known->type != info.info.typeName().to_string()) return;  // not ours to decode
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto& writers = writers_[topic];
+    const std::string ros_topic = recorder::ros_topic_of_dds_topic(topic);
+    if (info.status == WriterDiscoveryInfo::REMOVED_WRITER) {
+      if (writers.erase(info.info.guid()) == 0 || !writers.empty()) return;
+      if (const auto id = channels_.withdraw(ros_topic)) {
+        latched_.erase(*id);
+        to_all(Frame::control(unadvertise({*id})));
+      }
+      return;
+    }
+    if (!writers.insert(info.info.guid()).second || writers.size() > 1) return;
+    const std::string ros_type = recorder::ros_type_of_dds_type(known->type);
+    try {
+      if (const auto channel =
+              channels_.offer(ros_topic, ros_type, recorder::Ros2MsgCatalogue::scanbus().schema(ros_type))) {
+        topic_of_channel_[channel->id] = ros_topic;
+        to_all(Frame::control(advertise({*channel})));
+      }
+    } catch (const recorder::Ros2MsgError& error) {  // a catalogue type without IDL: a build fault, said once
+      context_.log->error("{} is not offered: {}", ros_topic, error.what());
+    }
+  }
+
+ private:
+  void opened(ClientId client) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    channels_.add_client(client);
+    server_->send(client, Frame::control(server_info("scanbus foxglove_bridge", {}, std::to_string(now_ns()))));
+    server_->send(client, Frame::control(advertise(channels_.offered())));
+    context_.log->info("client {} connected", client);
+  }
+
+  void closed(ClientId client, const ClientQueue& last) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    channels_.remove_client(client);
+    dropped_by_gone_clients_ += last.dropped;
+    reported_drops_.erase(client);
+    context_.log->info("client {} left", client);
+  }
+
+  void request(ClientId client, const std::string& text) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    try {
+      const ClientRequest request = parse_client_request(text);
+      for (const auto& subscription : request.subscriptions) {
+        if (const std::string refused = channels_.subscribe(client, subscription); !refused.empty()) {
+          server_->send(client, Frame::control(status(StatusLevel::Error, refused)));
+          continue;
+        }
+        // A latched topic's last sample, as a DDS reader joining late would get it.
+        if (const auto last = latched_.find(subscription.channel_id); last != latched_.end())
+          server_->send(
+              client, Frame::sample(subscription.channel_id, subscription.id, last->second.first, last->second.second));
+      }
+      for (const uint32_t id : request.subscription_ids)
+        if (const std::string refused = channels_.unsubscribe(client, id); !refused.empty())
+          server_->send(client, Frame::control(status(StatusLevel::Warning, refused)));
+    } catch (const ProtocolError& error) {
+      server_->send(client, Frame::control(status(StatusLevel::Error, error.what())));
+    }
+  }
+
+  // DDS readers exactly for the topics some client subscribes to.
+  void match_readers() {
+    std::set<std::string> wanted;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      const auto wanted_ros = channels_.wanted_topics();
+      for (const auto& ros_topic : wanted_ros) wanted.insert(recorder::dds_topic_of_ros_topic(ros_topic));
+      for (auto it = latched_.begin(); it != latched_.end();) {  // a topic no longer read goes stale
+        const Channel* channel = channels_.find(it->first);
+        it = channel && wanted_ros.count(channel->topic) ? std::next(it) : latched_.erase(it);
+      }
+    }
+    std::lock_guard<std::mutex> lock(readers_mutex_);
+    for (auto it = readers_.begin(); it != readers_.end();)
+      it = wanted.count(it->first) ? std::next(it) : readers_.erase(it);
+    for (const auto& topic : wanted) {
+      if (readers_.count(topic)) continue;
+      readers_.emplace(topic, std::make_unique<recorder::RawReader>(
+                                  *raw_, topic, topic_info(topic).type, raw_->qos(topic),
+                                  [this, topic](const recorder::RawSample& sample, const dds::SampleInfo&) {
+                                    forward(topic, sample);
+                                  }));
+    }
+  }
+
+  // A sample's bytes are copied once and shared by every client's frame.
+  void forward(const std::string& topic, const recorder::RawSample& sample) {
+    const uint64_t received = now_ns();
+    auto bytes = std::make_shared<const std::vector<uint8_t>>(sample);
+    std::lock_guard<std::mutex> lock(mutex_);
+    const Channel* channel = channels_.find_topic(recorder::ros_topic_of_dds_topic(topic));
+    if (!channel) return;
+    if (topic_info(topic).qos.transient_local) latched_[channel->id] = {received, bytes};
+    for (const auto& [client, subscription] : channels_.subscribers(channel->id)) {
+      server_->send(client, Frame::sample(channel->id, subscription, received, bytes));
+      ++forwarded_;
+    }
+  }
+
+  // Health counters, and a status to each client that lost messages since the last one.
+  void report() {
+    const auto queues = server_->queues();
+    uint64_t dropped = dropped_by_gone_clients_;
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& queue : queues) {
+      dropped += queue.dropped;
+      auto& reported = reported_drops_[queue.client];
+      if (queue.dropped == reported) continue;
+      reported = queue.dropped;
+      const std::string text = drops_text(queue, topic_of_channel_);
+      server_->send(queue.client, Frame::progress(status(StatusLevel::Warning, text)));
+      context_.log->warn("client {} ({}): {}", queue.client, queue.remote, text);
+    }
+    context_.health.counter("clients") = queues.size();
+    context_.health.counter("messages_forwarded") = forwarded_;
+    context_.health.counter("messages_dropped") = dropped;
+  }
+
+  void to_all(const Frame& frame) {
+    for (const ClientId client : channels_.clients()) server_->send(client, frame);
+  }
+
+  ServiceContext& context_;
+  ServerSettings settings_;
+  WebSocketServer* server_ = nullptr;
+  Participant* raw_ = nullptr;
+  std::mutex mutex_;  // the channels, the writers seen, the counts
+  Channels channels_;
+  std::map<std::string, std::set<GUID_t>> writers_;   // by DDS topic
+  std::map<uint32_t, std::string> topic_of_channel_;  // every channel ever offered, for drop reports
+  std::map<ClientId, uint64_t> reported_drops_;
+  // The last sample of each transient-local channel with a reader: (receive time, bytes).
+  std::map<uint32_t, std::pair<uint64_t, std::shared_ptr<const std::vector<uint8_t>>>> latched_;
+  uint64_t forwarded_ = 0, dropped_by_gone_clients_ = 0;
+  std::mutex readers_mutex_;
+  std::map<std::string, std::unique_ptr<recorder::RawReader>> readers_;  // by DDS topic
+};
+
+}  // namespace
+
+std::unique_ptr<Service> make_foxglove_bridge(ServiceContext& context) {
+  const Config section = context.config.section("foxglove_bridge");
+  return std::make_unique<FoxgloveBridge>(context, server_settings_from_config(section));
+}
+
+}  // namespace scanbus::foxglove_bridge
