@@ -1,5 +1,5 @@
 // Publishes PointCloud2 samples of N points (room_cloud.hpp) at a rate for a time, for bench/recording_throughput.sh.
-//   recording_publisher POINTS RATE_HZ SECONDS
+//   recording_publisher POINTS RATE_HZ SECONDS [READERS]  (readers to wait for, default 1)
 #include <iostream>
 #include <thread>
 
@@ -36,16 +36,17 @@ sensor_msgs::msg::PointCloud2 room_cloud(uint32_t points, uint32_t seed) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 4) {
-    std::cerr << "usage: recording_publisher POINTS RATE_HZ SECONDS\n";
+  if (argc != 4 && argc != 5) {
+    std::cerr << "usage: recording_publisher POINTS RATE_HZ SECONDS [READERS]\n";
     return 2;
   }
   const auto points = static_cast<uint32_t>(std::stoul(argv[1]));
   const double rate = std::stod(argv[2]), seconds = std::stod(argv[3]);
+  const size_t readers = argc == 5 ? std::stoul(argv[4]) : 1;
   Participant participant(dds_settings_from_config(Config::parse("", "")), "recording_publisher");
   Writer<sensor_msgs::msg::PointCloud2PubSubType> writer(participant, topics::kScannerCloud);
-  if (!writer.wait_for_readers(1, std::chrono::seconds(20))) {
-    std::cerr << "recording_publisher: no reader on rt/scanner/cloud within 20 s\n";
+  if (!writer.wait_for_readers(readers, std::chrono::seconds(20))) {
+    std::cerr << "recording_publisher: fewer than " << readers << " readers on rt/scanner/cloud within 20 s\n";
     return 1;
   }
   // Two clouds alternate, so consecutive samples differ without generating each anew.

@@ -255,7 +255,10 @@ void add_record_commands(CLI::App& app, int& exit_code) {
   command->add_option("--rate", replay.settings.rate, "Times the recorded pace (0: as fast as readers take them)")
       ->check(CLI::NonNegativeNumber);
   command->add_flag("--loop", replay.settings.loop, "Start again at the end, until Ctrl-C");
-  command->add_option("--topics", replay.settings.topics, "Only these topics (DDS or ROS names)");
+  command->add_option("--topics", replay.settings.topics, "Only these topics (DDS or ROS names)")->delimiter(',');
+  command->add_flag("--clock", replay.settings.clock,
+                    "Publish the recording's time on rt/clock at each message (as ros2 bag play --clock), for "
+                    "tools that follow it (foxglove_bridge with sim_time, ROS 2 with use_sim_time)");
   command->add_option("--start", replay.start, "Seconds after the first message to start at")
       ->check(CLI::NonNegativeNumber);
   command->add_option("--end", replay.end, "Seconds after the first message to stop at")->check(CLI::NonNegativeNumber);

@@ -7,7 +7,9 @@
 //
 // Subscribes to the topics as soon as they are advertised, decodes every message and prints
 // one JSON object at the end: the server's info, every advertise and unadvertise, statuses,
-// and per topic the decoded messages in short (header stamps, cloud sizes, room walls).
+// the server's time messages (ns),
+// and per topic the decoded messages in short (the bridge's receive time, when it arrived
+// here, header stamps, cloud sizes, room walls).
 // SIGTERM ends it the same way. --until stops once each topic has that many messages; --stall stops
 // reading from the socket for S seconds after subscribing (a client that falls behind);
 // --leave-after-bytes drops the TCP connection in the middle of the first message larger
@@ -53,7 +55,8 @@ function summary(schemaName, message) {
 }
 
 const opts = options(process.argv.slice(2));
-const result = { serverInfo: null, advertised: [], unadvertised: [], statuses: [], messages: {}, errors: [] };
+const result = { serverInfo: null, advertised: [], unadvertised: [], statuses: [], messages: {}, times: [],
+                 errors: [] };
 const channels = new Map(); // id -> { topic, schemaName, reader }
 const subscriptions = new Map(); // subscription id -> channel id
 
@@ -75,6 +78,7 @@ function done() {
 
 client.on("serverInfo", (info) => { result.serverInfo = info; });
 client.on("status", (status) => { result.statuses.push(status); });
+client.on("time", ({ timestamp }) => { result.times.push(timestamp.toString()); });
 client.on("error", (error) => { result.errors.push(String(error)); });
 client.on("close", () => { if (!finished) { result.errors.push("closed by the server"); finish(1); } });
 client.on("advertise", (list) => {
@@ -94,10 +98,11 @@ client.on("advertise", (list) => {
 });
 client.on("unadvertise", (ids) => { for (const id of ids) result.unadvertised.push(channels.get(id)?.topic ?? id); });
 client.on("message", ({ subscriptionId, timestamp, data }) => {
+  const arrived = BigInt(Math.round((performance.timeOrigin + performance.now()) * 1e3)) * 1000n;  // ns, µs steps
   const channel = channels.get(subscriptions.get(subscriptionId));
   if (!channel) { result.errors.push(`message for unknown subscription ${subscriptionId}`); return; }
   const bytes = new Uint8Array(data.buffer, data.byteOffset, data.byteLength);
-  const entry = { receive_ns: timestamp.toString(), bytes: bytes.length };
+  const entry = { receive_ns: timestamp.toString(), arrive_ns: arrived.toString(), bytes: bytes.length };
   try {
     Object.assign(entry, summary(channel.schemaName, channel.reader.readMessage(bytes)));
   } catch (error) {

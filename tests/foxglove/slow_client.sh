@@ -27,7 +27,7 @@ pids+=("$health")
 sleep 1
 rss_kb() { awk -v key="$1:" '$1 == key { print $2 }' "/proc/$bridge_pid/status"; }
 baseline=$(rss_kb VmRSS)
-"$publisher" 100000 10 12 > "$work/published.json" 2> "$work/publisher.log" ||
+"$publisher" 100000 10 12 1 > "$work/published.json" 2> "$work/publisher.log" ||
   { echo "FAIL: publisher"; cat "$work/publisher.log"; exit 1; }
 sleep 3  # the stalled client reads again and catches up; Health is published
 peak=$(rss_kb VmHWM)

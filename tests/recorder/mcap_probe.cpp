@@ -33,6 +33,10 @@ struct HasHeader : std::false_type {};
 template <class T>
 struct HasHeader<T, std::void_t<decltype(std::declval<T&>().header())>> : std::true_type {};
 template <class T, class = void>
+struct HasClock : std::false_type {};
+template <class T>
+struct HasClock<T, std::void_t<decltype(std::declval<T&>().clock())>> : std::true_type {};
+template <class T, class = void>
 struct HasRequestId : std::false_type {};
 template <class T>
 struct HasRequestId<T, std::void_t<decltype(std::declval<T&>().request_id())>> : std::true_type {};
@@ -46,6 +50,9 @@ Sample known_sample(uint32_t i) {
     sample.header().stamp().sec(static_cast<int32_t>(i));
     sample.header().stamp().nanosec(i * 1000);
     sample.header().frame_id(frame);
+  } else if constexpr (HasClock<Sample>::value) {
+    sample.clock().sec(static_cast<int32_t>(i));
+    sample.clock().nanosec(i * 1000);
   } else if constexpr (HasRequestId<Sample>::value) {
     sample.request_id(i);
     sample.client(frame);

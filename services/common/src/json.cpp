@@ -28,6 +28,10 @@ namespace tf2_msgs::msg {
 void to_json(json& out, const TFMessage& in) { out = {{"transforms", in.transforms()}}; }
 }  // namespace tf2_msgs::msg
 
+namespace rosgraph_msgs::msg {
+void to_json(json& out, const Clock& in) { out = {{"clock", in.clock()}}; }
+}  // namespace rosgraph_msgs::msg
+
 namespace sensor_msgs::msg {
 void to_json(json& out, const LaserScan& in) {
   out = {{"header", in.header()},

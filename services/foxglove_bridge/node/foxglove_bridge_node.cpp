@@ -6,6 +6,7 @@
 #include "raw_endpoints.hpp"
 #include "scanbus/foxglove_bridge/channels.hpp"
 #include "scanbus/recorder/ros2msg.hpp"
+#include "scanbus/typed_topics.hpp"
 #include "websocket_server.hpp"
 
 namespace scanbus::foxglove_bridge {
@@ -16,12 +17,19 @@ namespace dds = eprosima::fastdds::dds;
 using eprosima::fastrtps::rtps::GUID_t;
 using eprosima::fastrtps::rtps::WriterDiscoveryInfo;
 
-ServerSettings server_settings_from_config(const Config& section) {
-  ServerSettings settings;
-  settings.address = section.text("address", settings.address);
-  settings.port = static_cast<uint16_t>(section.integer("port", settings.port, 0, 65535));
-  settings.client_queue_bytes = static_cast<size_t>(
-      section.number("client_queue_size", settings.client_queue_bytes / 1048576.0, 1, 65536) * 1048576);
+struct BridgeSettings {
+  ServerSettings server;
+  bool sim_time = false;  // time from rt/clock (a replay's), offered as the protocol's `time`
+};
+
+BridgeSettings bridge_settings_from_config(const Config& section) {
+  BridgeSettings settings;
+  ServerSettings& server = settings.server;
+  server.address = section.text("address", server.address);
+  server.port = static_cast<uint16_t>(section.integer("port", server.port, 0, 65535));
+  server.client_queue_bytes = static_cast<size_t>(
+      section.number("client_queue_size", server.client_queue_bytes / 1048576.0, 1, 65536) * 1048576);
+  settings.sim_time = section.flag("sim_time", settings.sim_time);
   return settings;
 }
 
@@ -47,15 +55,26 @@ std::string drops_text(const ClientQueue& queue, const std::map<uint32_t, std::s
 
 class FoxgloveBridge : public Service, public dds::DomainParticipantListener {
  public:
-  FoxgloveBridge(ServiceContext& context, ServerSettings settings)
+  FoxgloveBridge(ServiceContext& context, BridgeSettings settings)
       : context_(context), settings_(std::move(settings)) {}
 
   int run() override {
-    WebSocketServer server(settings_, {[this](ClientId client) { opened(client); },
-                                       [this](ClientId client, const std::string& text) { request(client, text); },
-                                       [this](ClientId client, const ClientQueue& last) { closed(client, last); }});
+    WebSocketServer server(settings_.server,
+                           {[this](ClientId client) { opened(client); },
+                            [this](ClientId client, const std::string& text) { request(client, text); },
+                            [this](ClientId client, const ClientQueue& last) { closed(client, last); }});
     server_ = &server;
-    context_.log->info("Foxglove WebSocket server on ws://{}:{}", settings_.address, server.port());
+    context_.log->info("Foxglove WebSocket server on ws://{}:{}{}", settings_.server.address, server.port(),
+                       settings_.sim_time ? ", time from rt/clock" : "");
+    if (settings_.server.address.rfind("127.", 0) != 0 && settings_.server.address != "::1")
+      context_.log->warn(
+          "listening on {}, not loopback: whoever reaches it reads every topic; put TLS and access "
+          "control in front (docs/deploy.md)",
+          settings_.server.address);
+    std::unique_ptr<Reader<rosgraph_msgs::msg::ClockPubSubType>> clock;
+    if (settings_.sim_time)
+      clock = std::make_unique<Reader<rosgraph_msgs::msg::ClockPubSubType>>(
+          context_.participant, topics::kClock, [this](const auto& sample, const auto&) { tick(sample); });
     {
       // A participant of its own, listening for writers from its first moment: its raw
       // readers register catalogue type names the service's participant holds with generated code.
@@ -108,8 +127,12 @@ class FoxgloveBridge : public Service, public dds::DomainParticipantListener {
   void opened(ClientId client) {
     std::lock_guard<std::mutex> lock(mutex_);
     channels_.add_client(client);
-    server_->send(client, Frame::control(server_info("scanbus foxglove_bridge", {}, std::to_string(now_ns()))));
+    const std::vector<std::string> capabilities =
+        settings_.sim_time ? std::vector<std::string>{"time"} : std::vector<std::string>{};
+    server_->send(client,
+                  Frame::control(server_info("scanbus foxglove_bridge", capabilities, std::to_string(now_ns()))));
     server_->send(client, Frame::control(advertise(channels_.offered())));
+    if (sim_now_ > 0) server_->send(client, Frame::time(sim_now_));
     context_.log->info("client {} connected", client);
   }
 
@@ -168,11 +191,21 @@ class FoxgloveBridge : public Service, public dds::DomainParticipantListener {
     }
   }
 
-  // A sample's bytes are copied once and shared by every client's frame.
+  // The replay's clock: every client's timeline follows it.
+  void tick(const rosgraph_msgs::msg::Clock& sample) {
+    const uint64_t time = static_cast<uint64_t>(sample.clock().sec()) * 1000000000ull + sample.clock().nanosec();
+    std::lock_guard<std::mutex> lock(mutex_);
+    sim_now_ = time;
+    to_all(Frame::time(time));
+  }
+
+  // A sample's bytes are copied once and shared by every client's frame; its receive time is
+  // the replay's clock under sim_time (once it has ticked).
   void forward(const std::string& topic, const recorder::RawSample& sample) {
-    const uint64_t received = now_ns();
+    const uint64_t wall = now_ns();
     auto bytes = std::make_shared<const std::vector<uint8_t>>(sample);
     std::lock_guard<std::mutex> lock(mutex_);
+    const uint64_t received = settings_.sim_time && sim_now_ > 0 ? sim_now_ : wall;
     const Channel* channel = channels_.find_topic(recorder::ros_topic_of_dds_topic(topic));
     if (!channel) return;
     if (topic_info(topic).qos.transient_local) latched_[channel->id] = {received, bytes};
@@ -206,7 +239,7 @@ class FoxgloveBridge : public Service, public dds::DomainParticipantListener {
   }
 
   ServiceContext& context_;
-  ServerSettings settings_;
+  BridgeSettings settings_;
   WebSocketServer* server_ = nullptr;
   Participant* raw_ = nullptr;
   std::mutex mutex_;  // the channels, the writers seen, the counts
@@ -217,6 +250,7 @@ class FoxgloveBridge : public Service, public dds::DomainParticipantListener {
   // The last sample of each transient-local channel with a reader: (receive time, bytes).
   std::map<uint32_t, std::pair<uint64_t, std::shared_ptr<const std::vector<uint8_t>>>> latched_;
   uint64_t forwarded_ = 0, dropped_by_gone_clients_ = 0;
+  uint64_t sim_now_ = 0;  // ns, the last rt/clock (sim_time)
   std::mutex readers_mutex_;
   std::map<std::string, std::unique_ptr<recorder::RawReader>> readers_;  // by DDS topic
 };
@@ -225,7 +259,7 @@ class FoxgloveBridge : public Service, public dds::DomainParticipantListener {
 
 std::unique_ptr<Service> make_foxglove_bridge(ServiceContext& context) {
   const Config section = context.config.section("foxglove_bridge");
-  return std::make_unique<FoxgloveBridge>(context, server_settings_from_config(section));
+  return std::make_unique<FoxgloveBridge>(context, bridge_settings_from_config(section));
 }
 
 }  // namespace scanbus::foxglove_bridge

@@ -7,12 +7,14 @@
 #include <set>
 #include <thread>
 
+#include "cdr.hpp"
 #include "raw_endpoints.hpp"
 #include "scanbus/recorder/mcap.hpp"
 #include "scanbus/recorder/mcap_reader.hpp"
 #include "scanbus/recorder/ros2msg.hpp"
 #include "scanbus/replay_pacer.hpp"
 #include "scanbus/service.hpp"
+#include "scanbus/typed_topics.hpp"
 
 namespace scanbus::recorder {
 
@@ -90,6 +92,26 @@ Survey survey(const ReplaySettings& settings, const std::shared_ptr<spdlog::logg
   return result;
 }
 
+// rt/clock for --clock, unless the file's own /clock is replayed (two clocks would disagree).
+std::unique_ptr<RawWriter> clock_writer(Participant& participant, const ReplaySettings& settings, const Survey& plan,
+                                        spdlog::logger& log) {
+  if (!settings.clock) return nullptr;
+  for (const auto& [channel, topic] : plan.topic_of_channel)
+    if (topic == topics::kClock.name) {
+      log.info("{}: replaying the file's own {}", settings.file, topics::kClock.name);
+      return nullptr;
+    }
+  const TopicInfo& info = topic_info(topics::kClock.name);
+  return std::make_unique<RawWriter>(participant, info.name, info.type, writer_qos(info.qos));
+}
+
+RawSample clock_sample(uint64_t log_time) {
+  rosgraph_msgs::msg::Clock clock;
+  clock.clock().sec(static_cast<int32_t>(log_time / 1000000000));
+  clock.clock().nanosec(static_cast<uint32_t>(log_time % 1000000000));
+  return to_cdr<rosgraph_msgs::msg::ClockPubSubType>(clock);
+}
+
 }  // namespace
 
 ReplayResult replay(Participant& participant, const ReplaySettings& settings, std::shared_ptr<spdlog::logger> log,
@@ -113,6 +135,7 @@ ReplayResult replay(Participant& participant, const ReplaySettings& settings, st
     writers[channel] = std::make_unique<RawWriter>(participant, topic, plan.type_of_channel.at(channel), qos);
     if (qos.history().kind == dds::KEEP_LAST_HISTORY_QOS) latched.insert(channel);
   }
+  const std::unique_ptr<RawWriter> clock = clock_writer(participant, settings, plan, *log);
   const auto wait_deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(settings.wait_timeout);
   for (const auto& [channel, writer] : writers) {
     while (writer->matched_readers() < settings.wait_for_readers && std::chrono::steady_clock::now() < wait_deadline) {
@@ -128,10 +151,13 @@ ReplayResult replay(Participant& participant, const ReplaySettings& settings, st
   struct Held {
     RawSample data;
     uint16_t channel;
+    uint64_t log_time;
   };
   std::optional<Held> held;
   std::chrono::steady_clock::time_point first_published;
-  const auto publish = [&](const RawSample& sample, uint16_t channel) {
+  uint64_t clock_time = 0;
+  const auto publish = [&](const RawSample& sample, uint16_t channel, uint64_t log_time) {
+    if (clock && log_time > clock_time) clock->write(clock_sample(clock_time = log_time));
     RawWriter& writer = *writers.at(channel);
     RawWriter::Result written;
     while ((written = writer.write(sample)) == RawWriter::Result::QueueFull) {
@@ -173,11 +199,11 @@ ReplayResult replay(Participant& participant, const ReplaySettings& settings, st
             if (!in_window(settings, plan.first_time, message.log_time)) return;
             const auto step = pacer.next(message.log_time * 1e-9);
             if (step.skip_held) report_skipped(pacer);
-            if (step.publish_held) publish(held->data, held->channel);
+            if (step.publish_held) publish(held->data, held->channel, held->log_time);
             held.reset();
             sample.assign(message.data, message.data + message.size);
             if (step.hold) {
-              held = Held{sample, channel.id};
+              held = Held{sample, channel.id, message.log_time};
               return;
             }
             const auto due = wall_start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
@@ -187,7 +213,7 @@ ReplayResult replay(Participant& participant, const ReplaySettings& settings, st
               std::this_thread::sleep_until(
                   std::min(due, std::chrono::steady_clock::now() + std::chrono::milliseconds(50)));
             }
-            publish(sample, channel.id);
+            publish(sample, channel.id, message.log_time);
           },
           true);  // damage was found (and reported) by the survey
       if (pacer.finish()) report_skipped(pacer);

@@ -28,6 +28,9 @@ SCANBUS_JSON(TransformStamped);
 namespace tf2_msgs::msg {
 SCANBUS_JSON(TFMessage);
 }
+namespace rosgraph_msgs::msg {
+SCANBUS_JSON(Clock);
+}
 namespace sensor_msgs::msg {
 SCANBUS_JSON(LaserScan);
 SCANBUS_JSON(PointField);

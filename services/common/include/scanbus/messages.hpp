@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "scanbus_msgs/AssemblePubSubTypes.h"
+#include "scanbus_msgs/ClockPubSubTypes.h"
 #include "scanbus_msgs/FluidPressurePubSubTypes.h"
 #include "scanbus_msgs/HealthPubSubTypes.h"
 #include "scanbus_msgs/ImuPubSubTypes.h"
@@ -55,6 +56,7 @@ bool visit_message_type(const std::string& type_name, F&& f) {
   try_one(TypeTag<scanbus::msg::AssembleRequestPubSubType>{});
   try_one(TypeTag<scanbus::msg::AssembleReplyPubSubType>{});
   try_one(TypeTag<scanbus::msg::HealthPubSubType>{});
+  try_one(TypeTag<rosgraph_msgs::msg::ClockPubSubType>{});
   return found;
 }
 

@@ -34,6 +34,7 @@ inline constexpr Topic<sensor_msgs::msg::PointCloud2PubSubType> kCloudAssembled{
 inline constexpr Topic<sensor_msgs::msg::PointCloud2PubSubType> kCloudElevation{"rt/cloud/elevation"};
 inline constexpr Topic<msg::AssembleRequestPubSubType> kAssembleRequest{"rt/cloud/assemble_request"};
 inline constexpr Topic<msg::AssembleReplyPubSubType> kAssembleReply{"rt/cloud/assemble_reply"};
+inline constexpr Topic<rosgraph_msgs::msg::ClockPubSubType> kClock{"rt/clock"};
 inline constexpr Topic<msg::RoomMeasurementPubSubType> kRoomMeasurement{"rt/room/measurement"};
 inline constexpr Topic<sensor_msgs::msg::PointCloud2PubSubType> kRoomWalls{"rt/room/walls"};
 
@@ -42,7 +43,8 @@ template <class F>
 void for_each_typed_topic(F&& f) {
   f(kHealth), f(kScannerCommand), f(kScannerStatus), f(kScannerSpherical), f(kScannerCloud), f(kScannerScanCloud);
   f(kScan), f(kImu), f(kFix), f(kPressure), f(kTruthPose), f(kScanMatch), f(kPose), f(kTf), f(kTfStatic);
-  f(kCloudAssembled), f(kCloudElevation), f(kAssembleRequest), f(kAssembleReply), f(kRoomMeasurement), f(kRoomWalls);
+  f(kCloudAssembled), f(kCloudElevation), f(kAssembleRequest), f(kAssembleReply), f(kClock);
+  f(kRoomMeasurement), f(kRoomWalls);
 }
 
 }  // namespace topics
