@@ -12,10 +12,8 @@ seconds=${1:-20}
 points=${2:-1000000}
 scripts/build.sh scanbus recording_publisher > /dev/null
 export SCANBUS_DOMAIN_ID=${SCANBUS_DOMAIN_ID:-89}
-source tests/integration/lib.sh
 source tests/foxglove/lib.sh
-with_work
-install_client
+foxglove_test_setup
 start_bridge build/services/cli/scanbus
 start_client "$work/client.json" --topics /scanner/cloud --timeout $((seconds + 60))
 client_pid_fox=$client_pid

@@ -51,9 +51,10 @@ std::string start_foxglove_bridge(launch::System& system, int port) {
 }
 
 // After the results: the services' last samples stay on the bus (latched) for Foxglove.
-void keep_running(const std::vector<launch::System*>& systems, const std::string& address) {
-  std::printf("the services keep running for Foxglove at %s until Ctrl-C\n", address.c_str());
-  std::fflush(stdout);
+// Said on stderr under --json, whose stdout is the one JSON object.
+void keep_running(const std::vector<launch::System*>& systems, const std::string& address, bool json) {
+  std::fprintf(json ? stderr : stdout, "the services keep running for Foxglove at %s until Ctrl-C\n", address.c_str());
+  std::fflush(json ? stderr : stdout);
   while (!StopSignal::wait_for(std::chrono::milliseconds(200)))
     for (auto* system : systems) system->check();
 }
@@ -74,10 +75,12 @@ nlohmann::json mav_json(const launch::MavFlightResult& mav, const std::vector<st
 int run_demo(const DemoOptions& options) {
   std::filesystem::create_directories(options.out);
   StopSignal::install();
-  launch::System room_system({own_executable(), options.out, options.dds.settings()});
+  // Without --foxglove the room's processes end with the room (the flight has the machine).
+  std::optional<launch::System> room_system;
+  room_system.emplace(launch::SystemSettings{own_executable(), options.out, options.dds.settings()});
   std::string foxglove;
   if (options.foxglove_port > 0) {
-    foxglove = start_foxglove_bridge(room_system, options.foxglove_port);
+    foxglove = start_foxglove_bridge(*room_system, options.foxglove_port);
     if (!options.json)
       std::printf("Foxglove: open %s (Open connection, Foxglove WebSocket; layout: docs/foxglove_layout.json)\n",
                   foxglove.c_str()),
@@ -89,7 +92,8 @@ int run_demo(const DemoOptions& options) {
   scan.scans = 3;       // interleaved by eq. 4.9: one scan is too sparse for the histogram filter
   scan.measure = true;
   scan.progress = !options.json && isatty(STDOUT_FILENO);
-  const launch::RoomScanResult result = launch::run_room_scan(room_system, scan);
+  const launch::RoomScanResult result = launch::run_room_scan(*room_system, scan);
+  if (foxglove.empty()) room_system.reset();
 
   Eigen::Vector3f low = result.points.front().position, high = low;
   for (const auto& point : result.points) {
@@ -156,9 +160,9 @@ int run_demo(const DemoOptions& options) {
   if (!foxglove.empty()) json["foxglove"] = foxglove;
   if (options.json) std::cout << json << std::endl;
   if (!foxglove.empty()) {
-    std::vector<launch::System*> systems{&room_system};
+    std::vector<launch::System*> systems{&*room_system};
     if (mav_system) systems.push_back(&*mav_system);
-    keep_running(systems, foxglove);
+    keep_running(systems, foxglove, options.json);
   }
   return room.status == room_measurement::RoomStatus::Ok && mav_ok ? 0 : 1;
 }

@@ -4,11 +4,8 @@
 # room (latched); Ctrl-C (SIGINT) ends the demo with status 0 and leaves no process behind.
 set -euo pipefail
 scanbus=$1
-here=$(cd "$(dirname "$0")" && pwd)
-source "$here/../integration/lib.sh"
-source "$here/lib.sh"
-with_work
-install_client
+source "$(dirname "$0")/lib.sh"
+foxglove_test_setup
 port=$((20000 + SCANBUS_DOMAIN_ID))
 url=ws://127.0.0.1:$port
 "$scanbus" demo --foxglove "$port" --no-mav --out "$work/demo" > "$work/demo.log" 2>&1 &

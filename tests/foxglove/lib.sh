@@ -1,5 +1,12 @@
 # Shared by the Foxglove bridge tests: Foxglove's npm packages for foxglove_client.mjs, and a
 # bridge started on this test's port (20000 + its DDS domain).
+source "$(dirname "${BASH_SOURCE[0]}")/../integration/lib.sh"
+
+# A work folder (with_work) and the client installed in it.
+foxglove_test_setup() {
+  with_work
+  install_client
+}
 
 # install_client: $work/node/foxglove_client.mjs with its packages, or exit 77 (skip) without npm.
 install_client() {

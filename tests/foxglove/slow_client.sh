@@ -10,11 +10,8 @@
 set -euo pipefail
 scanbus=$1
 publisher=$2
-here=$(cd "$(dirname "$0")" && pwd)
-source "$here/../integration/lib.sh"
-source "$here/lib.sh"
-with_work
-install_client
+source "$(dirname "$0")/lib.sh"
+foxglove_test_setup
 start_bridge "$scanbus" "  client_queue_size: 16
 "
 start_client "$work/fast.json" --topics /scanner/cloud --timeout 60

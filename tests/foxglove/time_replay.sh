@@ -6,11 +6,8 @@
 set -euo pipefail
 scanbus=$1
 sample=$2
-here=$(cd "$(dirname "$0")" && pwd)
-source "$here/../integration/lib.sh"
-source "$here/lib.sh"
-with_work
-install_client
+source "$(dirname "$0")/lib.sh"
+foxglove_test_setup
 start_bridge "$scanbus" "  sim_time: true
 "
 start_client "$work/client.json" --topics /scanner/cloud --until /scanner/cloud:81 --timeout 60

@@ -49,6 +49,6 @@ with_work() {
   pids=()
   failures=0
   stop_signal=${1:-TERM}
-  trap 'for pid in "${pids[@]}"; do kill -"$stop_signal" "$pid" 2> /dev/null; done; wait 2> /dev/null; rm -rf "$work"' EXIT
+  trap 'for pid in "${pids[@]}"; do kill -"$stop_signal" "$pid" 2> /dev/null || true; done; wait 2> /dev/null; rm -rf "$work"' EXIT
 }
 fail() { echo "FAIL $*"; failures=$((failures + 1)); }

@@ -58,7 +58,8 @@ async function readIndexed(path) {
     channel.count += 1;
     channel.payload_sha256.push(sha256(message.data));
     const decoded = channel.decoder.readMessage(message.data);
-    channel.frames.push(decoded.header?.frame_id ?? decoded.client ?? decoded.transforms?.[0]?.child_frame_id ?? null);
+    channel.frames.push(decoded.header?.frame_id ?? decoded.client ?? decoded.transforms?.[0]?.child_frame_id ??
+      (decoded.clock ? `clock_${decoded.clock.sec}` : null));
     // Encoded again through the same schema, the message must give its own bytes (up to
     // the trailing alignment padding): the schema describes every field, not just the first.
     const again = channel.encoder.writeMessage(decoded);

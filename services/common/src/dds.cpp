@@ -67,14 +67,20 @@ Participant::Participant(const DdsSettings& settings, const std::string& name,
   if (!participant_) throw DdsError("cannot create DDS participant on domain " + std::to_string(settings.domain));
   publisher_ = participant_->create_publisher(dds::PUBLISHER_QOS_DEFAULT);
   subscriber_ = participant_->create_subscriber(dds::SUBSCRIBER_QOS_DEFAULT);
-  if (!publisher_ || !subscriber_) throw DdsError("cannot create DDS publisher or subscriber");
+  if (!publisher_ || !subscriber_) {
+    release();  // no destructor runs for a constructor that throws: no participant left behind
+    throw DdsError("cannot create DDS publisher or subscriber");
+  }
 }
 
-Participant::~Participant() {
+Participant::~Participant() { release(); }
+
+void Participant::release() {
   if (!participant_) return;
   participant_->set_listener(nullptr);  // no discovery callback into an owner being destroyed
   participant_->delete_contained_entities();
   dds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+  participant_ = nullptr;
 }
 
 dds::Topic* Participant::topic(const std::string& name, dds::TopicDataType* type) {

@@ -1,9 +1,11 @@
 #include "foxglove_bridge_node.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <set>
 
 #include "raw_endpoints.hpp"
+#include "scanbus/clock.hpp"
 #include "scanbus/foxglove_bridge/channels.hpp"
 #include "scanbus/recorder/ros2msg.hpp"
 #include "scanbus/typed_topics.hpp"
@@ -33,17 +35,10 @@ BridgeSettings bridge_settings_from_config(const Config& section) {
   return settings;
 }
 
-uint64_t now_ns() {
-  return static_cast<uint64_t>(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
-          .count());
-}
-
 // How far behind a client is, for its status message and the log.
 std::string drops_text(const ClientQueue& queue, const std::map<uint32_t, std::string>& topic_of_channel) {
-  std::string text = std::to_string(queue.dropped) +
-                     " messages dropped because this client reads more slowly than "
-                     "they arrive (";
+  std::string text =
+      std::to_string(queue.dropped) + " messages dropped because this client reads more slowly than they arrive (";
   bool first = true;
   for (const auto& [channel, count] : queue.dropped_by_channel) {
     const auto topic = topic_of_channel.find(channel);
@@ -53,20 +48,26 @@ std::string drops_text(const ClientQueue& queue, const std::map<uint32_t, std::s
   return text + ")";
 }
 
+// Several refusals of one request as one status, so a request cannot fill a queue with them.
+void add_refusal(std::string& refusals, const std::string& refused) {
+  if (!refused.empty()) refusals += (refusals.empty() ? "" : "; ") + refused;
+}
+
 class FoxgloveBridge : public Service, public dds::DomainParticipantListener {
  public:
   FoxgloveBridge(ServiceContext& context, BridgeSettings settings)
-      : context_(context), settings_(std::move(settings)) {}
+      : context_(context), settings_(std::move(settings)), session_id_(std::to_string(wall_clock_ns())) {}
 
   int run() override {
     WebSocketServer server(settings_.server,
                            {[this](ClientId client) { opened(client); },
                             [this](ClientId client, const std::string& text) { request(client, text); },
                             [this](ClientId client, const ClientQueue& last) { closed(client, last); }});
-    server_ = &server;
+    server_ = &server;  // before any client or DDS callback can use it; the server stops before it goes
+    server.start();
     context_.log->info("Foxglove WebSocket server on ws://{}:{}{}", settings_.server.address, server.port(),
                        settings_.sim_time ? ", time from rt/clock" : "");
-    if (settings_.server.address.rfind("127.", 0) != 0 && settings_.server.address != "::1")
+    if (!is_loopback_address(settings_.server.address))
       context_.log->warn(
           "listening on {}, not loopback: whoever reaches it reads every topic; put TLS and access "
           "control in front (docs/deploy.md)",
@@ -75,22 +76,9 @@ class FoxgloveBridge : public Service, public dds::DomainParticipantListener {
     if (settings_.sim_time)
       clock = std::make_unique<Reader<rosgraph_msgs::msg::ClockPubSubType>>(
           context_.participant, topics::kClock, [this](const auto& sample, const auto&) { tick(sample); });
-    {
-      // A participant of its own, listening for writers from its first moment: its raw
-      // readers register catalogue type names the service's participant holds with generated code.
-      Participant raw(dds_settings_from_config(context_.config.section("dds")), "scanbus/foxglove_bridge/raw", this);
-      raw.set_qos_overrides(context_.config.section("qos"));
-      raw_ = &raw;
-      while (!StopSignal::wait_for(std::chrono::milliseconds(100))) {
-        match_readers();
-        report();
-      }
-      std::lock_guard<std::mutex> lock(readers_mutex_);
-      readers_.clear();
-      raw_ = nullptr;
-    }
-    std::lock_guard<std::mutex> lock(mutex_);
-    server_ = nullptr;
+    serve();
+    clock.reset();
+    server.stop();
     return 0;
   }
 
@@ -124,13 +112,31 @@ class FoxgloveBridge : public Service, public dds::DomainParticipantListener {
   }
 
  private:
+  // The DDS side, until a stop: a participant of its own, listening for writers from its
+  // first moment (its raw readers register catalogue type names that the service's
+  // participant holds with generated code); its readers go before it.
+  void serve() {
+    Participant raw(dds_settings_from_config(context_.config.section("dds")), "scanbus/foxglove_bridge/raw", this);
+    raw.set_qos_overrides(context_.config.section("qos"));
+    struct DropReaders {
+      FoxgloveBridge& bridge;
+      ~DropReaders() {
+        std::lock_guard<std::mutex> lock(bridge.readers_mutex_);
+        bridge.readers_.clear();
+      }
+    } drop_readers{*this};
+    while (!StopSignal::wait_for(std::chrono::milliseconds(100))) {
+      match_readers(raw);
+      report();
+    }
+  }
+
   void opened(ClientId client) {
     std::lock_guard<std::mutex> lock(mutex_);
     channels_.add_client(client);
     const std::vector<std::string> capabilities =
         settings_.sim_time ? std::vector<std::string>{"time"} : std::vector<std::string>{};
-    server_->send(client,
-                  Frame::control(server_info("scanbus foxglove_bridge", capabilities, std::to_string(now_ns()))));
+    server_->send(client, Frame::control(server_info("scanbus foxglove_bridge", capabilities, session_id_)));
     server_->send(client, Frame::control(advertise(channels_.offered())));
     if (sim_now_ > 0) server_->send(client, Frame::time(sim_now_));
     context_.log->info("client {} connected", client);
@@ -138,36 +144,38 @@ class FoxgloveBridge : public Service, public dds::DomainParticipantListener {
 
   void closed(ClientId client, const ClientQueue& last) {
     std::lock_guard<std::mutex> lock(mutex_);
+    const auto clients = channels_.clients();
+    if (std::find(clients.begin(), clients.end(), client) == clients.end()) return;  // never past the handshake
     channels_.remove_client(client);
     dropped_by_gone_clients_ += last.dropped;
-    reported_drops_.erase(client);
-    context_.log->info("client {} left", client);
+    reported_.erase(client);
+    context_.log->info("client {} ({}) left", client, last.remote);
   }
 
   void request(ClientId client, const std::string& text) {
     std::lock_guard<std::mutex> lock(mutex_);
+    std::string refusals;
     try {
       const ClientRequest request = parse_client_request(text);
       for (const auto& subscription : request.subscriptions) {
-        if (const std::string refused = channels_.subscribe(client, subscription); !refused.empty()) {
-          server_->send(client, Frame::control(status(StatusLevel::Error, refused)));
-          continue;
-        }
-        // A latched topic's last sample, as a DDS reader joining late would get it.
-        if (const auto last = latched_.find(subscription.channel_id); last != latched_.end())
+        const std::string refused = channels_.subscribe(client, subscription);
+        add_refusal(refusals, refused);
+        // A latched topic's last sample (the bridge keeps one), as a DDS reader joining late gets it.
+        const auto last = latched_.find(subscription.channel_id);
+        if (refused.empty() && last != latched_.end())
           server_->send(
               client, Frame::sample(subscription.channel_id, subscription.id, last->second.first, last->second.second));
       }
-      for (const uint32_t id : request.subscription_ids)
-        if (const std::string refused = channels_.unsubscribe(client, id); !refused.empty())
-          server_->send(client, Frame::control(status(StatusLevel::Warning, refused)));
+      for (const uint32_t id : request.subscription_ids) add_refusal(refusals, channels_.unsubscribe(client, id));
     } catch (const ProtocolError& error) {
-      server_->send(client, Frame::control(status(StatusLevel::Error, error.what())));
+      refusals = error.what();
     }
+    if (!refusals.empty()) server_->send(client, Frame::control(status(StatusLevel::Error, refusals)));
   }
 
-  // DDS readers exactly for the topics some client subscribes to.
-  void match_readers() {
+  // DDS readers exactly for the topics some client subscribes to. A reader DDS refuses (a QoS
+  // override it rejects, DDS Security) is reported to the clients and not tried again.
+  void match_readers(Participant& raw) {
     std::set<std::string> wanted;
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -182,54 +190,65 @@ class FoxgloveBridge : public Service, public dds::DomainParticipantListener {
     for (auto it = readers_.begin(); it != readers_.end();)
       it = wanted.count(it->first) ? std::next(it) : readers_.erase(it);
     for (const auto& topic : wanted) {
-      if (readers_.count(topic)) continue;
-      readers_.emplace(topic, std::make_unique<recorder::RawReader>(
-                                  *raw_, topic, topic_info(topic).type, raw_->qos(topic),
-                                  [this, topic](const recorder::RawSample& sample, const dds::SampleInfo&) {
-                                    forward(topic, sample);
-                                  }));
+      if (readers_.count(topic) || refused_topics_.count(topic)) continue;
+      try {
+        const QosSettings qos = raw.qos(topic);
+        readers_.emplace(topic, std::make_unique<recorder::RawReader>(
+                                    raw, topic, topic_info(topic).type, qos,
+                                    [this, topic, latched = qos.transient_local](const recorder::RawSample& sample,
+                                                                                 const dds::SampleInfo&) {
+                                      forward(topic, latched, sample);
+                                    }));
+      } catch (const DdsError& error) {
+        refused_topics_.insert(topic);
+        context_.log->error("{}: no DDS reader: {}", topic, error.what());
+        std::lock_guard<std::mutex> clients(mutex_);
+        to_all(Frame::control(status(StatusLevel::Error, topic + " cannot be read: " + error.what())));
+      }
     }
   }
 
   // The replay's clock: every client's timeline follows it.
   void tick(const rosgraph_msgs::msg::Clock& sample) {
-    const uint64_t time = static_cast<uint64_t>(sample.clock().sec()) * 1000000000ull + sample.clock().nanosec();
     std::lock_guard<std::mutex> lock(mutex_);
-    sim_now_ = time;
-    to_all(Frame::time(time));
+    sim_now_ = to_nanoseconds(sample.clock());
+    to_all(Frame::time(sim_now_));
   }
 
   // A sample's bytes are copied once and shared by every client's frame; its receive time is
   // the replay's clock under sim_time (once it has ticked).
-  void forward(const std::string& topic, const recorder::RawSample& sample) {
-    const uint64_t wall = now_ns();
+  void forward(const std::string& topic, bool latched, const recorder::RawSample& sample) {
+    const uint64_t wall = wall_clock_ns();
     auto bytes = std::make_shared<const std::vector<uint8_t>>(sample);
     std::lock_guard<std::mutex> lock(mutex_);
     const uint64_t received = settings_.sim_time && sim_now_ > 0 ? sim_now_ : wall;
     const Channel* channel = channels_.find_topic(recorder::ros_topic_of_dds_topic(topic));
     if (!channel) return;
-    if (topic_info(topic).qos.transient_local) latched_[channel->id] = {received, bytes};
+    if (latched) latched_[channel->id] = {received, bytes};
     for (const auto& [client, subscription] : channels_.subscribers(channel->id)) {
       server_->send(client, Frame::sample(channel->id, subscription, received, bytes));
       ++forwarded_;
     }
   }
 
-  // Health counters, and a status to each client that lost messages since the last one.
+  // Health counters, and a status (at most one a second) to each client that lost messages.
   void report() {
     const auto queues = server_->queues();
-    uint64_t dropped = dropped_by_gone_clients_;
+    const auto now = std::chrono::steady_clock::now();
     std::lock_guard<std::mutex> lock(mutex_);
+    const auto clients = channels_.clients();
+    uint64_t dropped = dropped_by_gone_clients_;
     for (const auto& queue : queues) {
+      if (std::find(clients.begin(), clients.end(), queue.client) == clients.end()) continue;  // left meanwhile
       dropped += queue.dropped;
-      auto& reported = reported_drops_[queue.client];
-      if (queue.dropped == reported) continue;
-      reported = queue.dropped;
+      auto& reported = reported_[queue.client];
+      if (queue.dropped == reported.dropped || now - reported.at < std::chrono::seconds(1)) continue;
+      reported = {queue.dropped, now};
       const std::string text = drops_text(queue, topic_of_channel_);
       server_->send(queue.client, Frame::progress(status(StatusLevel::Warning, text)));
       context_.log->warn("client {} ({}): {}", queue.client, queue.remote, text);
     }
-    context_.health.counter("clients") = queues.size();
+    context_.health.counter("clients") = clients.size();
     context_.health.counter("messages_forwarded") = forwarded_;
     context_.health.counter("messages_dropped") = dropped;
   }
@@ -238,21 +257,29 @@ class FoxgloveBridge : public Service, public dds::DomainParticipantListener {
     for (const ClientId client : channels_.clients()) server_->send(client, frame);
   }
 
+  struct Reported {
+    uint64_t dropped = 0;
+    std::chrono::steady_clock::time_point at;
+  };
+
   ServiceContext& context_;
-  BridgeSettings settings_;
+  const BridgeSettings settings_;
+  const std::string session_id_;  // one per run: a client that reconnects sees the same server
   WebSocketServer* server_ = nullptr;
-  Participant* raw_ = nullptr;
-  std::mutex mutex_;  // the channels, the writers seen, the counts
+  // Guards everything below it up to readers_mutex_; taken before the server's and a
+  // client's locks, never after.
+  std::mutex mutex_;
   Channels channels_;
   std::map<std::string, std::set<GUID_t>> writers_;   // by DDS topic
   std::map<uint32_t, std::string> topic_of_channel_;  // every channel ever offered, for drop reports
-  std::map<ClientId, uint64_t> reported_drops_;
-  // The last sample of each transient-local channel with a reader: (receive time, bytes).
+  std::map<ClientId, Reported> reported_;             // the drops last told to each client
+  // The last sample of each latched (transient-local) channel read: (receive time, bytes).
   std::map<uint32_t, std::pair<uint64_t, std::shared_ptr<const std::vector<uint8_t>>>> latched_;
   uint64_t forwarded_ = 0, dropped_by_gone_clients_ = 0;
-  uint64_t sim_now_ = 0;  // ns, the last rt/clock (sim_time)
-  std::mutex readers_mutex_;
+  uint64_t sim_now_ = 0;                                                 // ns, the last rt/clock (sim_time)
+  std::mutex readers_mutex_;                                             // the readers; taken alone, or before mutex_
   std::map<std::string, std::unique_ptr<recorder::RawReader>> readers_;  // by DDS topic
+  std::set<std::string> refused_topics_;                                 // DDS would not make their reader
 };
 
 }  // namespace

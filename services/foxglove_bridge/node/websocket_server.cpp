@@ -1,11 +1,13 @@
 #include "websocket_server.hpp"
 
 #include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
 
 #include <array>
+#include <chrono>
 #include <stdexcept>
 
 namespace scanbus::foxglove_bridge {
@@ -19,7 +21,32 @@ using tcp = net::ip::tcp;
 struct WebSocketServer::Io {
   net::io_context context{1};
   tcp::acceptor acceptor{context};
+  net::steady_timer retry{context};  // accepting again after an error (out of descriptors)
 };
+
+namespace {
+
+// The Sec-WebSocket-Protocol list ("a, b") holds ours as a whole token.
+bool offers_subprotocol(beast::string_view offered) {
+  while (!offered.empty()) {
+    const size_t comma = offered.find(',');
+    beast::string_view token = offered.substr(0, comma);
+    while (!token.empty() && token.front() == ' ') token.remove_prefix(1);
+    while (!token.empty() && token.back() == ' ') token.remove_suffix(1);
+    if (token == kSubprotocol) return true;
+    if (comma == beast::string_view::npos) break;
+    offered.remove_prefix(comma + 1);
+  }
+  return false;
+}
+
+}  // namespace
+
+bool is_loopback_address(const std::string& address) {
+  beast::error_code error;
+  const auto parsed = net::ip::make_address(address, error);
+  return !error && parsed.is_loopback();
+}
 
 // One client: the HTTP upgrade, then a read loop and a write loop on the server's I/O
 // thread. Frames come in from any thread through push(); only the I/O thread writes.
@@ -36,7 +63,10 @@ class Session : public std::enable_shared_from_this<Session> {
 
   void push(Frame frame) {
     std::lock_guard<std::mutex> lock(mutex_);
-    queue_.push(std::move(frame));
+    if (!queue_.push(std::move(frame))) {  // asks and never reads: nothing bounds what it is owed
+      net::post(ws_.get_executor(), [self = shared_from_this()] { self->finish(); });
+      return;
+    }
     if (open_ && !writing_) {
       writing_ = true;  // a write is on its way: later pushes only queue
       net::post(ws_.get_executor(), [self = shared_from_this()] { self->write_next(); });
@@ -57,8 +87,7 @@ class Session : public std::enable_shared_from_this<Session> {
 
   void on_request(beast::error_code error) {
     if (error) return finish();
-    const auto offered = request_[http::field::sec_websocket_protocol];
-    if (!websocket::is_upgrade(request_) || offered.find(kSubprotocol) == beast::string_view::npos)
+    if (!websocket::is_upgrade(request_) || !offers_subprotocol(request_[http::field::sec_websocket_protocol]))
       return refuse("this is a Foxglove WebSocket server: connect with the subprotocol " + std::string(kSubprotocol));
     beast::get_lowest_layer(ws_).expires_never();  // the websocket's own timeouts from here on
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
@@ -163,13 +192,18 @@ WebSocketServer::WebSocketServer(const ServerSettings& settings, Handlers handle
   if (!error) acceptor.listen(net::socket_base::max_listen_connections, error);
   if (error) throw std::runtime_error("foxglove_bridge: cannot listen on " + where + ": " + error.message());
   port_ = acceptor.local_endpoint().port();
+}
+
+void WebSocketServer::start() {
   accept();
   thread_ = std::thread([this] { io_->context.run(); });
 }
 
-WebSocketServer::~WebSocketServer() {
+void WebSocketServer::stop() {
+  if (stopped_) return;
+  stopped_ = true;
   io_->context.stop();
-  thread_.join();
+  if (thread_.joinable()) thread_.join();
   std::map<ClientId, std::shared_ptr<Session>> sessions;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -179,19 +213,26 @@ WebSocketServer::~WebSocketServer() {
   io_.reset();  // the handlers still pending hold their sessions: they go with the context
 }
 
+WebSocketServer::~WebSocketServer() { stop(); }
+
 void WebSocketServer::accept() {
   io_->acceptor.async_accept([this](beast::error_code error, tcp::socket socket) {
     if (error == net::error::operation_aborted) return;  // closing
-    if (!error) {
-      std::shared_ptr<Session> session;
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        const ClientId id = next_client_++;
-        session = std::make_shared<Session>(std::move(socket), id, *this);
-        sessions_.emplace(id, session);
-      }
-      session->start();
+    if (error) {                                         // e.g. out of descriptors: try again shortly rather than spin
+      io_->retry.expires_after(std::chrono::milliseconds(100));
+      io_->retry.async_wait([this](beast::error_code waited) {
+        if (!waited) accept();
+      });
+      return;
     }
+    std::shared_ptr<Session> session;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      const ClientId id = next_client_++;
+      session = std::make_shared<Session>(std::move(socket), id, *this);
+      sessions_.emplace(id, session);
+    }
+    session->start();
     accept();
   });
 }

@@ -20,6 +20,9 @@ namespace scanbus::foxglove_bridge {
 
 class Session;
 
+// 127.0.0.0/8 or ::1; false for what is not an IP address.
+bool is_loopback_address(const std::string& address);
+
 struct ServerSettings {
   std::string address = "127.0.0.1";
   uint16_t port = 8765;                   // 0: any free port (port() says which)
@@ -43,9 +46,12 @@ class WebSocketServer {
         closed;  // gone (closed, reset, failed write): its last queue state
   };
 
-  // Listens at once; throws std::runtime_error naming the address and port it cannot bind.
+  // Binds and listens; throws std::runtime_error naming the address and port it cannot bind.
+  // Clients are accepted from start() on, and no handler runs after stop() (or the end).
   WebSocketServer(const ServerSettings& settings, Handlers handlers);
   ~WebSocketServer();
+  void start();
+  void stop();
   WebSocketServer(const WebSocketServer&) = delete;
   WebSocketServer& operator=(const WebSocketServer&) = delete;
 
@@ -58,6 +64,7 @@ class WebSocketServer {
   friend class Session;
   void accept();
   void closed(ClientId client, const ClientQueue& last);
+  bool stopped_ = false;
 
   struct Io;
   std::unique_ptr<Io> io_;

@@ -2,20 +2,11 @@
 
 #include <chrono>
 
+#include "scanbus/clock.hpp"
 #include "scanbus/recorder/ros2msg.hpp"
 #include "topic_channels.hpp"
 
 namespace scanbus::recorder {
-
-namespace {
-
-uint64_t now_ns() {
-  return static_cast<uint64_t>(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
-          .count());
-}
-
-}  // namespace
 
 std::string catalogue_topic(const std::string& name) {
   const std::string topic = dds_topic_of_ros_topic(name);
@@ -80,7 +71,7 @@ Recording::~Recording() {
 }
 
 void Recording::enqueue(uint16_t channel, const RawSample& sample, const eprosima::fastdds::dds::SampleInfo& info) {
-  const uint64_t received = now_ns();
+  const uint64_t received = wall_clock_ns();
   std::unique_lock<std::mutex> lock(mutex_);
   // Back-pressure: a reliable writer waits for us rather than a sample being dropped.
   changed_.wait(lock, [&] { return queued_bytes_ < settings_.queue_bytes || stopping_ || !failure_.empty(); });

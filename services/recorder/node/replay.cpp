@@ -9,6 +9,7 @@
 
 #include "cdr.hpp"
 #include "raw_endpoints.hpp"
+#include "scanbus/clock.hpp"
 #include "scanbus/recorder/mcap.hpp"
 #include "scanbus/recorder/mcap_reader.hpp"
 #include "scanbus/recorder/ros2msg.hpp"
@@ -107,8 +108,7 @@ std::unique_ptr<RawWriter> clock_writer(Participant& participant, const ReplaySe
 
 RawSample clock_sample(uint64_t log_time) {
   rosgraph_msgs::msg::Clock clock;
-  clock.clock().sec(static_cast<int32_t>(log_time / 1000000000));
-  clock.clock().nanosec(static_cast<uint32_t>(log_time % 1000000000));
+  clock.clock(stamp_of_nanoseconds(log_time));
   return to_cdr<rosgraph_msgs::msg::ClockPubSubType>(clock);
 }
 
@@ -137,14 +137,19 @@ ReplayResult replay(Participant& participant, const ReplaySettings& settings, st
   }
   const std::unique_ptr<RawWriter> clock = clock_writer(participant, settings, plan, *log);
   const auto wait_deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(settings.wait_timeout);
-  for (const auto& [channel, writer] : writers) {
-    while (writer->matched_readers() < settings.wait_for_readers && std::chrono::steady_clock::now() < wait_deadline) {
-      if (StopSignal::wait_for(std::chrono::milliseconds(20))) return result;
-    }
-    if (writer->matched_readers() < settings.wait_for_readers)
-      log->warn("{}: {} of {} readers after {} s; replaying anyway", writer->topic(), writer->matched_readers(),
-                settings.wait_for_readers, settings.wait_timeout);
-  }
+  // False when a stop was requested meanwhile.
+  const auto wait_for_readers = [&](const RawWriter& writer, size_t count) {
+    while (writer.matched_readers() < count && std::chrono::steady_clock::now() < wait_deadline)
+      if (StopSignal::wait_for(std::chrono::milliseconds(20))) return false;
+    if (writer.matched_readers() < count)
+      log->warn("{}: {} of {} readers after {} s; replaying anyway", writer.topic(), writer.matched_readers(), count,
+                settings.wait_timeout);
+    return true;
+  };
+  for (const auto& [channel, writer] : writers)
+    if (!wait_for_readers(*writer, settings.wait_for_readers)) return result;
+  // Whoever follows the clock hears it before the first message (not every reader of the data does).
+  if (clock && !wait_for_readers(*clock, std::min<size_t>(settings.wait_for_readers, 1))) return result;
 
   // A message whose stamp jumps waits for the next to tell a broken stamp from a pause
   // (ReplayPacer), its bytes copied out of the chunk.
@@ -155,7 +160,7 @@ ReplayResult replay(Participant& participant, const ReplaySettings& settings, st
   };
   std::optional<Held> held;
   std::chrono::steady_clock::time_point first_published;
-  uint64_t clock_time = 0;
+  uint64_t clock_time = 0;  // the last published on rt/clock: it never goes back within a pass
   const auto publish = [&](const RawSample& sample, uint16_t channel, uint64_t log_time) {
     if (clock && log_time > clock_time) clock->write(clock_sample(clock_time = log_time));
     RawWriter& writer = *writers.at(channel);
@@ -190,6 +195,7 @@ ReplayResult replay(Participant& participant, const ReplaySettings& settings, st
   RawSample sample;
   try {
     do {
+      clock_time = 0;  // a --loop pass starts the recording's time again
       const auto wall_start = std::chrono::steady_clock::now();
       ReplayPacer pacer(settings.rate, settings.max_gap);
       McapReader reader(settings.file, settings.max_chunk);

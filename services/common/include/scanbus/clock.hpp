@@ -2,6 +2,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 
 #include "scanbus_msgs/Time.h"
 
@@ -24,6 +25,23 @@ inline builtin_interfaces::msg::Time now_stamp() {
   stamp.sec(static_cast<int32_t>(seconds.count()));
   stamp.nanosec(
       static_cast<uint32_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(since_epoch - seconds).count()));
+  return stamp;
+}
+
+// Nanoseconds since the epoch on the wall clock, and a stamp to and from them (MCAP log
+// times, Foxglove's receive times, rt/clock).
+inline uint64_t wall_clock_ns() {
+  return static_cast<uint64_t>(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+          .count());
+}
+inline uint64_t to_nanoseconds(const builtin_interfaces::msg::Time& stamp) {
+  return static_cast<uint64_t>(stamp.sec()) * 1000000000ull + stamp.nanosec();
+}
+inline builtin_interfaces::msg::Time stamp_of_nanoseconds(uint64_t ns) {
+  builtin_interfaces::msg::Time stamp;
+  stamp.sec(static_cast<int32_t>(ns / 1000000000ull));
+  stamp.nanosec(static_cast<uint32_t>(ns % 1000000000ull));
   return stamp;
 }
 

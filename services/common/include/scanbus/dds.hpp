@@ -87,6 +87,7 @@ class Participant {
   uint64_t lost() const;
 
  private:
+  void release();  // deletes the participant and everything in it
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;

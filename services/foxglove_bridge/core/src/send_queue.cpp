@@ -33,29 +33,49 @@ Frame Frame::time(uint64_t time_ns) {
   return frame;
 }
 
-void SendQueue::push(Frame frame) {
-  const Frame::Kind kind = frame.kind;
-  if (kind == Frame::Kind::Time || kind == Frame::Kind::Progress)
-    for (auto it = frames_.begin(); it != frames_.end();) it = it->kind == kind ? erase(it) : it + 1;
-  const std::optional<uint32_t> channel =
-      kind == Frame::Kind::Sample ? std::optional<uint32_t>(frame.channel_id) : std::nullopt;
+bool SendQueue::push(Frame frame) {
   bytes_ += frame.size();
+  if (frame.kind == Frame::Kind::Time || frame.kind == Frame::Kind::Progress) {
+    std::optional<Frame>& slot = frame.kind == Frame::Kind::Time ? time_ : progress_;
+    if (slot) bytes_ -= slot->size();
+    slot = std::move(frame);
+    return true;
+  }
+  const bool sample = frame.kind == Frame::Kind::Sample;
+  const uint32_t channel = frame.channel_id;
+  if (sample)
+    ++samples_queued_[channel];
+  else
+    control_bytes_ += frame.size();
   frames_.push_back(std::move(frame));
   while (bytes_ > max_bytes_) {
-    auto victim = channel ? oldest_sample(channel) : frames_.end();
+    auto victim = sample && samples_queued_[channel] > 1 ? oldest_sample(channel) : frames_.end();
     if (victim == frames_.end()) victim = oldest_sample(std::nullopt);
-    if (victim == frames_.end()) return;  // only frames that are not samples, and the new one, are left
+    if (victim == frames_.end()) break;  // only control messages and the new frame are left
     ++dropped_;
     ++dropped_by_channel_[victim->channel_id];
-    erase(victim);
+    --samples_queued_[victim->channel_id];
+    bytes_ -= victim->size();
+    frames_.erase(victim);
   }
+  return control_bytes_ <= max_bytes_;
 }
 
 std::optional<Frame> SendQueue::pop() {
-  if (frames_.empty()) return std::nullopt;
-  Frame frame = std::move(frames_.front());
-  frames_.pop_front();
-  bytes_ -= frame.size();
+  std::optional<Frame> frame;
+  if (progress_) {
+    frame.swap(progress_);
+  } else if (time_) {
+    frame.swap(time_);
+  } else if (!frames_.empty()) {
+    frame = std::move(frames_.front());
+    frames_.pop_front();
+    if (frame->kind == Frame::Kind::Sample)
+      --samples_queued_[frame->channel_id];
+    else
+      control_bytes_ -= frame->size();
+  }
+  if (frame) bytes_ -= frame->size();
   return frame;
 }
 
@@ -64,11 +84,6 @@ std::deque<Frame>::iterator SendQueue::oldest_sample(std::optional<uint32_t> cha
   for (auto it = frames_.begin(); it != newest; ++it)
     if (it->kind == Frame::Kind::Sample && (!channel_id || it->channel_id == *channel_id)) return it;
   return frames_.end();
-}
-
-std::deque<Frame>::iterator SendQueue::erase(std::deque<Frame>::iterator frame) {
-  bytes_ -= frame->size();
-  return frames_.erase(frame);
 }
 
 }  // namespace scanbus::foxglove_bridge

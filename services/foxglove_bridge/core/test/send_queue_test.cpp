@@ -49,13 +49,20 @@ TEST(SendQueue, ThenTheOldestOfAnyChannel) {
   EXPECT_EQ(queue.dropped_by_channel().at(1), 1u);
 }
 
-TEST(SendQueue, ControlMessagesAreNeverDroppedAndBoundStaysWithOneBigSample) {
-  SendQueue queue(100);
-  queue.push(Frame::control(std::string(150, '{')));  // over the bound alone: kept
+TEST(SendQueue, ControlMessagesAreNeverDroppedAndOneBigSampleStillGoes) {
+  SendQueue queue(1000);
+  EXPECT_TRUE(queue.push(Frame::control(std::string(150, '{'))));
   queue.push(Frame::sample(1, 10, 0, bytes(500, 'a')));
-  queue.push(Frame::sample(1, 10, 0, bytes(500, 'b')));  // 'a' goes; 'b' stays although over the bound
-  EXPECT_EQ(contents(queue), "cb");
-  EXPECT_EQ(queue.dropped(), 1u);
+  queue.push(Frame::sample(1, 10, 0, bytes(500, 'b')));   // over the bound: 'a' goes
+  queue.push(Frame::sample(2, 11, 0, bytes(2000, 'd')));  // larger than the bound: 'b' goes, 'd' stays alone
+  EXPECT_EQ(contents(queue), "cd");
+  EXPECT_EQ(queue.dropped(), 2u);
+}
+
+TEST(SendQueue, ControlMessagesBeyondTheBoundAskToCloseTheConnection) {
+  SendQueue queue(100);
+  EXPECT_TRUE(queue.push(Frame::control(std::string(60, '{'))));
+  EXPECT_FALSE(queue.push(Frame::control(std::string(60, '{'))));  // a client that asks and never reads
 }
 
 TEST(SendQueue, AStalledClientsQueueStaysBounded) {
@@ -67,7 +74,9 @@ TEST(SendQueue, AStalledClientsQueueStaysBounded) {
     ASSERT_LE(queue.bytes(), 1000000u);
   }
   EXPECT_GT(queue.dropped(), 9000u);
-  int times = 0, progress = 0;
+  EXPECT_EQ(queue.pop()->kind, Frame::Kind::Progress);  // the newest count and time go first
+  EXPECT_EQ(queue.pop()->kind, Frame::Kind::Time);
+  int times = 1, progress = 1;
   while (auto frame = queue.pop()) {
     times += frame->kind == Frame::Kind::Time;
     progress += frame->kind == Frame::Kind::Progress;

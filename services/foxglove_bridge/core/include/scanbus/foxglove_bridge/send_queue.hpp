@@ -45,10 +45,13 @@ class SendQueue {
   explicit SendQueue(size_t max_bytes) : max_bytes_(max_bytes) {}
 
   // Queues the frame, then drops older samples while over the bound (never the new frame:
-  // one sample larger than the bound is still sent, alone).
-  void push(Frame frame);
+  // one sample larger than the bound is still sent, alone). False when control messages
+  // alone exceed the bound: the client reads nothing while it keeps asking, and its
+  // connection should be closed.
+  bool push(Frame frame);
+  // Control messages and samples in order; the newest Progress and Time before them.
   std::optional<Frame> pop();
-  bool empty() const { return frames_.empty(); }
+  bool empty() const { return frames_.empty() && !time_ && !progress_; }
   size_t bytes() const { return bytes_; }
   uint64_t dropped() const { return dropped_; }
   const std::map<uint32_t, uint64_t>& dropped_by_channel() const { return dropped_by_channel_; }
@@ -56,12 +59,13 @@ class SendQueue {
  private:
   // The oldest sample, of `channel_id` when given, but not the newest frame.
   std::deque<Frame>::iterator oldest_sample(std::optional<uint32_t> channel_id);
-  std::deque<Frame>::iterator erase(std::deque<Frame>::iterator frame);
-  void drop(std::deque<Frame>::iterator frame);
 
   size_t max_bytes_;
-  size_t bytes_ = 0;
-  std::deque<Frame> frames_;
+  size_t bytes_ = 0;                           // every frame queued, the slots included
+  size_t control_bytes_ = 0;                   // control messages in frames_
+  std::deque<Frame> frames_;                   // control messages and samples
+  std::optional<Frame> time_, progress_;       // the newest of each: one slot, no search
+  std::map<uint32_t, size_t> samples_queued_;  // by channel, so a channel with none is not searched for
   uint64_t dropped_ = 0;
   std::map<uint32_t, uint64_t> dropped_by_channel_;
 };
