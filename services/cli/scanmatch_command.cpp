@@ -19,7 +19,8 @@ namespace {
 using namespace scan_matcher;
 
 struct EvalOptions {
-  std::string log, relations, config, trajectory;
+  std::vector<std::string> logs, relations;  // pairs, in order
+  std::string config, trajectory;
   bool odometry_guess = false;
   bool json = false;
   double max_span = 10.0;  // s, for the separate short-relation figures
@@ -38,25 +39,19 @@ MatcherSettings load_matcher_settings(const std::string& path) {
   return settings;
 }
 
-// The Freiburg metric over all relations and over those within max_span, as text or one
-// JSON object (with `extra` merged in).
-void print_scores(const Trajectory& trajectory, const std::vector<Relation>& relations, double max_span, bool json,
-                  nlohmann::json extra) {
-  const RelationErrors all = evaluate_relations(trajectory.stamps, trajectory.poses, relations);
-  const RelationErrors short_span = evaluate_relations(trajectory.stamps, trajectory.poses, relations, max_span);
-  if (json) {
-    extra.update({{"translational_error_m", stats_json(all.translational, 1)},
-                  {"rotational_error_deg", stats_json(all.rotational, 180 / M_PI)},
-                  {"relations", all.translational.count},
-                  {"relations_missing", all.missing},
-                  {"short_relations",
-                   {{"max_span_s", max_span},
-                    {"relations", short_span.translational.count},
-                    {"translational_error_m", stats_json(short_span.translational, 1)},
-                    {"rotational_error_deg", stats_json(short_span.rotational, 180 / M_PI)}}}});
-    std::cout << extra << "\n";
-    return;
-  }
+nlohmann::json errors_json(const RelationErrors& all, const RelationErrors& short_span, double max_span) {
+  return {{"translational_error_m", stats_json(all.translational, 1)},
+          {"rotational_error_deg", stats_json(all.rotational, 180 / M_PI)},
+          {"relations", all.translational.count},
+          {"relations_missing", all.missing},
+          {"short_relations",
+           {{"max_span_s", max_span},
+            {"relations", short_span.translational.count},
+            {"translational_error_m", stats_json(short_span.translational, 1)},
+            {"rotational_error_deg", stats_json(short_span.rotational, 180 / M_PI)}}}};
+}
+
+void print_errors(const RelationErrors& all, const RelationErrors& short_span, double max_span) {
   auto line = [](const char* name, const RelationErrors& e) {
     std::printf("%s: %zu relations, translational %.3f +- %.3f m (max %.3f), rotational %.2f +- %.2f deg (max %.2f)\n",
                 name, e.translational.count, e.translational.mean, e.translational.std, e.translational.max,
@@ -69,41 +64,103 @@ void print_scores(const Trajectory& trajectory, const std::vector<Relation>& rel
   if (all.missing) std::printf("%zu relations name a scan without a pose\n", all.missing);
 }
 
+// The Freiburg metric over all relations and over those within max_span, as text or one
+// JSON object (with `extra` merged in).
+void print_scores(const Trajectory& trajectory, const std::vector<Relation>& relations, double max_span, bool json,
+                  nlohmann::json extra) {
+  const RelationErrors all = evaluate_relations(trajectory.stamps, trajectory.poses, relations);
+  const RelationErrors short_span = evaluate_relations(trajectory.stamps, trajectory.poses, relations, max_span);
+  if (json) {
+    extra.update(errors_json(all, short_span, max_span));
+    std::cout << extra << "\n";
+    return;
+  }
+  print_errors(all, short_span, max_span);
+}
+
+// One row per log and the mean of the logs' means (each log counts once, whatever its
+// number of relations), all relations and the short ones.
+void print_table(const std::vector<std::string>& logs, const std::vector<LogScore>& scores, double max_span) {
+  std::printf("%-28s %9s %14s %14s %12s %12s %9s\n", "log", "relations", "all (m)", "short (m)", "all (deg)",
+              "short (deg)", "scans/s");
+  double sums[4] = {0, 0, 0, 0};
+  for (size_t i = 0; i < logs.size(); ++i) {
+    const LogScore& s = scores[i];
+    const double row[4] = {s.all.translational.mean, s.short_span.translational.mean,
+                           s.all.rotational.mean * 180 / M_PI, s.short_span.rotational.mean * 180 / M_PI};
+    std::printf("%-28s %9zu %14.3f %14.3f %12.2f %12.2f %9.0f\n", logs[i].substr(logs[i].find_last_of('/') + 1).c_str(),
+                s.all.translational.count, row[0], row[1], row[2], row[3], s.scans_per_second);
+    for (int k = 0; k < 4; ++k) sums[k] += row[k];
+  }
+  const double n = static_cast<double>(logs.size());
+  std::printf("%-28s %9s %14.3f %14.3f %12.2f %12.2f  (short: within %.0f s)\n", "mean of the logs", "", sums[0] / n,
+              sums[1] / n, sums[2] / n, sums[3] / n, max_span);
+}
+
 int run_eval(const EvalOptions& options) {
-  std::vector<LaserRecord> records;
-  std::vector<Relation> relations;
+  if (options.logs.size() != options.relations.size()) {
+    std::cerr << "scanbus scanmatch eval: " << options.logs.size() << " --log and " << options.relations.size()
+              << " --relations: give them in pairs\n";
+    return 2;
+  }
+  if (options.logs.size() > 1 && !options.trajectory.empty()) {
+    std::cerr << "scanbus scanmatch eval: --trajectory takes one log\n";
+    return 2;
+  }
   MatcherSettings settings;
   try {
     settings = load_matcher_settings(options.config);
-    records = load_laser_log(options.log);
-    relations = read_relations(options.relations);
-  } catch (const std::runtime_error& e) {  // LogError, ConfigError
+  } catch (const std::runtime_error& e) {  // ConfigError
     std::cerr << "scanbus scanmatch eval: " << e.what() << "\n";
     return 2;
   }
-  if (options.odometry_guess && std::all_of(records.begin(), records.end(), [](const LaserRecord& r) {
-        return r.odometry.x == 0 && r.odometry.y == 0 && r.odometry.theta == 0;
-      })) {
-    std::cerr << "scanbus scanmatch eval: " << options.log << " carries no odometry for --odometry-guess\n";
-    return 2;
-  }
   const bool progress = !options.json && isatty(STDOUT_FILENO);
-  ScanMatcher matcher(settings);
-  const TrackedLog tracked = track_log(matcher, records, options.odometry_guess, [&](size_t done, size_t total) {
-    if (progress && (done % 50 == 1 || done == total))
-      std::printf("\rmatching: scan %zu of %zu", done, total), std::fflush(stdout);
-  });
-  if (progress) std::printf("\n");
-  if (!options.trajectory.empty()) write_trajectory(options.trajectory, tracked.trajectory);
-  const double rate = static_cast<double>(records.size()) / std::max(tracked.matching_seconds, 1e-9);
-  print_scores(tracked.trajectory, relations, options.max_span, options.json,
-               {{"scans", records.size()},
-                {"failed_matches", tracked.failed},
-                {"odometry_guess", options.odometry_guess},
-                {"scans_per_second", rate}});
-  if (!options.json)
-    std::printf("%zu scans, %zu failed matches, %.0f scans per second%s\n", records.size(), tracked.failed, rate,
-                options.odometry_guess ? ", odometry as initial guess" : "");
+  std::vector<LogScore> scores;
+  nlohmann::json json_logs = nlohmann::json::array();
+  for (size_t i = 0; i < options.logs.size(); ++i) {
+    const std::string& log = options.logs[i];
+    std::vector<LaserRecord> records;
+    std::vector<Relation> relations;
+    try {
+      records = load_laser_log(log);
+      relations = read_relations(options.relations[i]);
+    } catch (const std::runtime_error& e) {  // LogError
+      std::cerr << "scanbus scanmatch eval: " << e.what() << "\n";
+      return 2;
+    }
+    if (options.odometry_guess && std::all_of(records.begin(), records.end(), [](const LaserRecord& r) {
+          return r.odometry.x == 0 && r.odometry.y == 0 && r.odometry.theta == 0;
+        })) {
+      std::cerr << "scanbus scanmatch eval: " << log << " carries no odometry for --odometry-guess\n";
+      return 2;
+    }
+    scores.push_back(score_log(
+        settings, records, relations, options.odometry_guess, options.max_span, [&](size_t done, size_t total) {
+          if (progress && (done % 50 == 1 || done == total))
+            std::printf("\rmatching %s: scan %zu of %zu", log.c_str(), done, total), std::fflush(stdout);
+        }));
+    const LogScore& score = scores.back();
+    if (progress) std::printf("\n");
+    if (!options.trajectory.empty()) write_trajectory(options.trajectory, score.tracked.trajectory);
+    nlohmann::json extra{{"scans", records.size()},
+                         {"failed_matches", score.tracked.failed},
+                         {"odometry_guess", options.odometry_guess},
+                         {"scans_per_second", score.scans_per_second}};
+    if (options.json) {
+      extra.update(errors_json(score.all, score.short_span, options.max_span));
+      extra["log"] = log;
+      json_logs.push_back(extra);
+      continue;
+    }
+    if (options.logs.size() > 1) std::printf("%s:\n", log.c_str());
+    print_errors(score.all, score.short_span, options.max_span);
+    std::printf("%zu scans, %zu failed matches, %.0f scans per second%s\n", records.size(), score.tracked.failed,
+                score.scans_per_second, options.odometry_guess ? ", odometry as initial guess" : "");
+  }
+  if (options.json)
+    std::cout << (json_logs.size() == 1 ? json_logs[0] : nlohmann::json{{"logs", json_logs}}) << "\n";
+  else if (options.logs.size() > 1)
+    print_table(options.logs, scores, options.max_span);
   return 0;
 }
 
@@ -251,9 +308,12 @@ void add_scanmatch_command(CLI::App& app, int& exit_code) {
   auto* scanmatch = app.add_subcommand("scanmatch", "Laser scan matching (PL-ICP)");
   scanmatch->require_subcommand(1);
   auto* eval = scanmatch->add_subcommand("eval", "Match a CARMEN log's scans and score them against relations");
-  eval->add_option("--log", options.log, "CARMEN log (FLASER or ROBOTLASER1 lines), or an MCAP recording of /scan")
+  eval->add_option("--log", options.logs,
+                   "CARMEN log (FLASER or ROBOTLASER1 lines), or an MCAP recording of /scan; several, each with "
+                   "its --relations in the same order, give one row per log and the mean")
       ->required();
-  eval->add_option("--relations", options.relations, "Relations file (t1 t2 x y z roll pitch yaw)")->required();
+  eval->add_option("--relations", options.relations, "Relations file (t1 t2 x y z roll pitch yaw), one per --log")
+      ->required();
   eval->add_option("--config", options.config, "Service file with a scan_matcher.matcher section (default: built-in)");
   eval->add_option("--trajectory", options.trajectory, "Write the matched poses, one 'stamp x y theta' line per scan");
   eval->add_flag("--odometry-guess", options.odometry_guess, "Use wheel odometry as each match's initial guess");

@@ -20,6 +20,28 @@ status=0
 "$scanbus" scanmatch eval --log "$work/bad.clf" --relations "$work/two.clf" > "$work/out" 2>&1 || status=$?
 [ $status -eq 2 ] && grep -q "bad.clf:1" "$work/out" || { echo "exit $status"; cat "$work/out"; exit 1; }
 
+status=0
+"$scanbus" scanmatch eval --log "$work/bad.clf" --log "$work/bad.clf" --relations "$work/two.clf" > "$work/out" 2>&1 ||
+  status=$?
+[ $status -eq 2 ] && grep -q "give them in pairs" "$work/out" || { echo "exit $status"; cat "$work/out"; exit 1; }
+
+# Several logs: one row each and the mean of the logs (the recorded sample twice: the mean is each).
+sample=$(dirname "$0")/../data
+"$scanbus" scanmatch eval --log "$sample/mit_csail.mcap" --relations "$sample/mit_csail.relations" \
+  --log "$sample/mit_csail.mcap" --relations "$sample/mit_csail.relations" > "$work/table"
+[ "$(grep -c '^mit_csail.mcap ' "$work/table")" -eq 2 ] && grep -q "^mean of the logs" "$work/table" ||
+  { echo "no table of two logs and their mean:"; cat "$work/table"; exit 1; }
+"$scanbus" scanmatch eval --log "$sample/mit_csail.mcap" --relations "$sample/mit_csail.relations" \
+  --log "$sample/mit_csail.mcap" --relations "$sample/mit_csail.relations" --json > "$work/logs.json"
+python3 - "$work/logs.json" "$work/table" <<'PY'
+import json, sys
+logs = json.load(open(sys.argv[1]))["logs"]
+assert len(logs) == 2 and logs[0]["translational_error_m"] == logs[1]["translational_error_m"], logs
+mean = [line for line in open(sys.argv[2]) if line.startswith("mean of the logs")][0].split()
+assert abs(float(mean[4]) - logs[0]["translational_error_m"]["mean"]) < 5e-4, (mean, logs[0])
+print(f"two logs: one row each, mean {mean[4]} m")
+PY
+
 if [ ! -f "$data/mit-csail.clf" ]; then
   # 77: ctest's skip (SKIP_RETURN_CODE); the checks above passed, the accuracy was not measured.
   echo "SKIP: $data/mit-csail.clf not found (../shared absent): the accuracy on MIT CSAIL is not measured"

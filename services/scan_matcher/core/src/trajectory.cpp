@@ -1,5 +1,6 @@
 #include "scanbus/scan_matcher/trajectory.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <optional>
@@ -51,6 +52,19 @@ TrackedLog track_log(ScanMatcher& matcher, const std::vector<LaserRecord>& recor
     if (progress) progress(i + 1, records.size());
   }
   return tracked;
+}
+
+LogScore score_log(const MatcherSettings& settings, const std::vector<LaserRecord>& records,
+                   const std::vector<Relation>& relations, bool odometry_guess, double max_span,
+                   const std::function<void(size_t, size_t)>& progress) {
+  ScanMatcher matcher(settings);
+  LogScore score;
+  score.tracked = track_log(matcher, records, odometry_guess, progress);
+  const Trajectory& trajectory = score.tracked.trajectory;
+  score.all = evaluate_relations(trajectory.stamps, trajectory.poses, relations);
+  score.short_span = evaluate_relations(trajectory.stamps, trajectory.poses, relations, max_span);
+  score.scans_per_second = static_cast<double>(records.size()) / std::max(score.tracked.matching_seconds, 1e-9);
+  return score;
 }
 
 }  // namespace scanbus::scan_matcher

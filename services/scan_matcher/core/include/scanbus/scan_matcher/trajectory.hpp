@@ -33,4 +33,15 @@ struct TrackedLog {
 TrackedLog track_log(ScanMatcher& matcher, const std::vector<LaserRecord>& records, bool odometry_guess,
                      const std::function<void(size_t, size_t)>& progress = {});
 
+// A log matched from its first scan with `settings`, and scored with the Freiburg metric over
+// all its relations and over those at most `max_span` s apart.
+struct LogScore {
+  TrackedLog tracked;
+  RelationErrors all, short_span;
+  double scans_per_second = 0;  // inside the matcher
+};
+LogScore score_log(const MatcherSettings& settings, const std::vector<LaserRecord>& records,
+                   const std::vector<Relation>& relations, bool odometry_guess, double max_span,
+                   const std::function<void(size_t, size_t)>& progress = {});
+
 }  // namespace scanbus::scan_matcher
