@@ -1,9 +1,10 @@
 // PL-ICP scan matching per scan (ScanMatcher::add_scan: range gating, correspondence search,
-// Gauss-Newton, keyframes) on one core. Target (issue 5): 2,000 scans per second for
+// Gauss-Newton, the local map) on one core. Target (issue 5): 2,000 scans per second for
 // 361-ray scans. Two inputs: a synthetic room flight (always there) and the real MIT CSAIL
 // log of the Freiburg benchmark (skipped when ../shared is absent).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "laser_world.hpp"
@@ -35,41 +36,47 @@ std::vector<sensor::LaserScan> mit_csail() {
   return scans;
 }
 
-// Matches the scans in order, starting over with a new matcher at the end.
-void match(benchmark::State& state, const std::vector<sensor::LaserScan>& scans) {
+// Matches the scans in order, starting over with a new matcher at the end; the map holds
+// `map_keyframes` keyframes (1: pairwise), the other settings the defaults.
+void match(benchmark::State& state, const std::vector<sensor::LaserScan>& scans, int map_keyframes) {
   if (scans.empty()) {
     state.SkipWithError("../shared/data/freiburg/mit-csail.clf not found");
     return;
   }
-  auto matcher = std::make_unique<scan_matcher::ScanMatcher>();
-  size_t next = 0, failed = 0;
+  scan_matcher::MatcherSettings settings;
+  settings.map_keyframes = map_keyframes;
+  auto matcher = std::make_unique<scan_matcher::ScanMatcher>(settings);
+  size_t next = 0, failed = 0, map_points = 0;
   for (auto _ : state) {
     if (next == scans.size()) {
       state.PauseTiming();
-      matcher = std::make_unique<scan_matcher::ScanMatcher>();
+      matcher = std::make_unique<scan_matcher::ScanMatcher>(settings);
       next = 0;
       state.ResumeTiming();
     }
     const auto result = matcher->add_scan(scans[next++]);
     failed += next > 1 && result.quality != scan_matcher::MatchQuality::Ok;
+    map_points = std::max(map_points, matcher->map_points());
   }
   state.SetItemsProcessed(state.iterations());  // items per second = scans per second
   state.counters["rays"] = static_cast<double>(scans.front().ranges.size());
   state.counters["failed"] = static_cast<double>(failed);
+  state.counters["map_points"] = static_cast<double>(map_points);  // the most the map held
 }
 
 void MatchRoomFlight(benchmark::State& state) {
   static const auto scans = room_flight();
-  match(state, scans);
+  match(state, scans, static_cast<int>(state.range(0)));
 }
 
 void MatchMitCsail(benchmark::State& state) {
   static const auto scans = mit_csail();
-  match(state, scans);
+  match(state, scans, static_cast<int>(state.range(0)));
 }
 
 }  // namespace
 
-BENCHMARK(MatchRoomFlight)->Unit(benchmark::kMicrosecond);
-BENCHMARK(MatchMitCsail)->Unit(benchmark::kMicrosecond);
+// Pairwise (1), a short map (10) and the default (40): the time per scan against the map size.
+BENCHMARK(MatchRoomFlight)->Arg(40)->Unit(benchmark::kMicrosecond);
+BENCHMARK(MatchMitCsail)->Arg(1)->Arg(10)->Arg(40)->Unit(benchmark::kMicrosecond);
 BENCHMARK_MAIN();

@@ -206,36 +206,26 @@ int run_convert(const ConvertOptions& options) {
 struct BacktransformOptions {
   std::string log, config, out;
   long row = -1;  // the pair (row, row + 1); -1 with --all
-  bool all = false, json = false;
-  double max_median = 0.03;  // m: a pair whose median residual is larger is suspect (on the MIT
-                             // CSAIL log 99 % of pairs stay under it; new surfaces and clutter
-                             // put a tenth of the points further off, so the p90 is reported only)
+  bool all = false, json = false, odometry_guess = false;
+  double max_median = 0.02;  // m: a pair whose median nearest-point distance is larger than this
+                             // plus half its rays' spacing is suspect (a SICK's range noise and
+                             // systematic error; docs/performance.md has both Freiburg logs)
 };
 
-// A checked pair: scans `row` and `row` + 1.
-struct RowCheck : PairCheck {
-  size_t row = 0;
-};
-
-RowCheck check_row(const ScanMatcher& matcher, const std::vector<LaserRecord>& records, size_t row, double max_median) {
-  RowCheck check{check_pair(matcher, records[row].scan, records[row + 1].scan, max_median)};
-  check.row = row;
-  return check;
-}
-
-nlohmann::json pair_json(const RowCheck& check) {
-  const Pose2& i = check.match.increment;
+nlohmann::json pair_json(const PairCheck& check) {
+  const Pose2& i = check.increment;
   return {{"row", check.row},
           {"increment", {{"x", i.x}, {"y", i.y}, {"theta_deg", i.theta * 180 / M_PI}}},
-          {"quality", static_cast<int>(check.match.quality)},
+          {"quality", static_cast<int>(check.quality)},
           {"residual_median_m", check.median},
           {"residual_p90_m", check.p90},
+          {"spacing_m", check.spacing},
           {"points", check.points},
           {"verdict", check.suspect ? "suspect" : "ok"}};
 }
 
-std::string pair_line(const RowCheck& check) {
-  const Pose2& i = check.match.increment;
+std::string pair_line(const PairCheck& check) {
+  const Pose2& i = check.increment;
   char line[200];
   std::snprintf(line, sizeof(line),
                 "scans %zu-%zu: increment %.3f %.3f m %.2f deg, residual median %.4f m, p90 %.4f m over %zu points: %s",
@@ -259,12 +249,22 @@ int run_backtransform(const BacktransformOptions& options) {
               << " is not a scan with a successor: " << options.log << " has scans 0 to " << records.size() - 1 << "\n";
     return 2;
   }
-  const ScanMatcher matcher(settings);
+  // The increments are the running matcher's over the log up to the pair, as the service made them.
+  const size_t rows = options.all ? records.size() : static_cast<size_t>(options.row) + 2;
+  const std::vector<LaserRecord> tracked(records.begin(), records.begin() + static_cast<long>(rows));
+  const bool progress = !options.json && isatty(STDOUT_FILENO);
+  const auto checks =
+      check_log(settings, tracked, options.odometry_guess, options.max_median, [&](size_t done, size_t total) {
+        if (progress && (done % 200 == 0 || done == total))
+          std::printf("\rtracking: scan %zu of %zu", done, total), std::fflush(stdout);
+      });
+  if (progress) std::printf("\r\033[K");
   if (!options.all) {
-    const RowCheck check = check_row(matcher, records, static_cast<size_t>(options.row), options.max_median);
+    const PairCheck& check = checks.back();
     if (!options.out.empty()) {
+      const ScanMatcher matcher(settings);
       const auto reference = matcher.points_of(records[check.row].scan);
-      const auto moved = carried_back(matcher.points_of(records[check.row + 1].scan), check.match.increment);
+      const auto moved = carried_back(matcher.points_of(records[check.row + 1].scan), check.increment);
       char title[96];
       std::snprintf(title, sizeof(title), "BacktransformLaserScan: scan %zu+1 onto scan %zu", check.row, check.row);
       plot::write_backtransform_picture(options.out, reference, moved, title, pair_line(check));
@@ -272,18 +272,12 @@ int run_backtransform(const BacktransformOptions& options) {
     std::cout << (options.json ? pair_json(check).dump() : pair_line(check)) << "\n";
     return check.suspect ? 1 : 0;
   }
-  const bool progress = !options.json && isatty(STDOUT_FILENO);
-  std::vector<RowCheck> checks;
-  std::vector<double> medians;
   size_t suspect = 0;
-  for (size_t row = 0; row + 1 < records.size(); ++row) {
-    checks.push_back(check_row(matcher, records, row, options.max_median));
-    suspect += checks.back().suspect;
-    medians.push_back(checks.back().median);
-    if (progress && (row % 50 == 0 || row + 2 == records.size()))
-      std::printf("\rchecking: pair %zu of %zu", row + 1, records.size() - 1), std::fflush(stdout);
+  std::vector<double> medians;
+  for (const auto& check : checks) {
+    suspect += check.suspect;
+    medians.push_back(check.median);
   }
-  if (progress) std::printf("\n");
   if (options.json) {
     nlohmann::json pairs = nlohmann::json::array();
     for (const auto& check : checks) pairs.push_back(pair_json(check));
@@ -295,8 +289,10 @@ int run_backtransform(const BacktransformOptions& options) {
   } else {
     for (const auto& check : checks)
       if (check.suspect) std::cout << pair_line(check) << "\n";
-    std::printf("%zu pairs, %zu suspect (median residual over %.3f m or a failed match), median residual %.4f m\n",
-                checks.size(), suspect, options.max_median, percentile(medians, 0.5));
+    std::printf(
+        "%zu pairs, %zu suspect (median residual over %.3f m and half the spacing, or a failed match), "
+        "median residual %.4f m\n",
+        checks.size(), suspect, options.max_median, percentile(medians, 0.5));
   }
   return 0;
 }
@@ -338,7 +334,8 @@ void add_scanmatch_command(CLI::App& app, int& exit_code) {
 
   static BacktransformOptions back;
   auto* backtransform = scanmatch->add_subcommand(
-      "backtransform", "BacktransformLaserScan: carry scan N+1 back onto scan N by the match and measure the fit");
+      "backtransform",
+      "BacktransformLaserScan: carry scan N+1 back onto scan N by the running matcher's increment and measure the fit");
   backtransform
       ->add_option("--log", back.log, "CARMEN log (FLASER or ROBOTLASER1 lines), or an MCAP recording of /scan")
       ->required();
@@ -346,7 +343,10 @@ void add_scanmatch_command(CLI::App& app, int& exit_code) {
   auto* all = backtransform->add_flag("--all", back.all, "Check every consecutive pair; list the suspect ones");
   row->excludes(all);
   backtransform->add_option("--out", back.out, "PNG picture of the pair (with --row)")->excludes(all);
-  backtransform->add_option("--max-median", back.max_median, "m: a larger median residual makes a pair suspect");
+  backtransform->add_option(
+      "--max-median", back.max_median,
+      "m: a median nearest-point distance larger than this plus half the rays' spacing makes a pair suspect");
+  backtransform->add_flag("--odometry-guess", back.odometry_guess, "Track with wheel odometry as the initial guess");
   backtransform->add_option("--config", back.config, "Service file with a scan_matcher.matcher section");
   backtransform->add_flag("--json", back.json, "Print JSON");
   on_run(*backtransform, exit_code, [] { return run_backtransform(back); });

@@ -42,45 +42,58 @@ assert abs(float(mean[4]) - logs[0]["translational_error_m"]["mean"]) < 5e-4, (m
 print(f"two logs: one row each, mean {mean[4]} m")
 PY
 
-if [ ! -f "$data/mit-csail.clf" ]; then
-  # 77: ctest's skip (SKIP_RETURN_CODE); the checks above passed, the accuracy was not measured.
-  echo "SKIP: $data/mit-csail.clf not found (../shared absent): the accuracy on MIT CSAIL is not measured"
-  exit 77
-fi
-for guess in "" "--odometry-guess"; do
-  "$scanbus" scanmatch eval --log "$data/mit-csail.clf" --relations "$data/mit-csail.relations" $guess --json \
-    > "$TMPDIR_RESULT" 2>&1 || { cat "$TMPDIR_RESULT"; exit 1; }
-  python3 - "$TMPDIR_RESULT" "$guess" <<'PY'
+# 77 below: ctest's skip (SKIP_RETURN_CODE); the checks above passed, the accuracy was not measured.
+# Each log with the same defaults, in both modes, against its published scan-matching row
+# (Kuemmerle et al. 2009): MIT CSAIL 0.106 +- 0.325 m, MIT Killian Court 1.651 +- 4.138 m.
+for log in mit-csail mit-killian; do
+  if [ ! -f "$data/$log.clf" ]; then
+    echo "SKIP: $data/$log.clf not found: the accuracy on $log is not measured"
+    exit 77
+  fi
+  for guess in "" "--odometry-guess"; do
+    "$scanbus" scanmatch eval --log "$data/$log.clf" --relations "$data/$log.relations" $guess --max-span 10 --json \
+      > "$TMPDIR_RESULT" 2>&1 || { cat "$TMPDIR_RESULT"; exit 1; }
+    python3 - "$TMPDIR_RESULT" "$guess" "$log" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
-odometry = sys.argv[2] != ""
+odometry, log = sys.argv[2] != "", sys.argv[3]
 short = r["short_relations"]
-print(("with" if odometry else "without"), "odometry guess:",
+print(log, ("with" if odometry else "without"), "odometry guess:",
       f"all {r['translational_error_m']['mean']:.3f} +- {r['translational_error_m']['std']:.3f} m,",
       f"<= 10 s {short['translational_error_m']['mean']:.3f} +- {short['translational_error_m']['std']:.3f} m,",
       f"{r['scans_per_second']:.0f} scans/s")
-assert r["relations"] == 1172 and r["relations_missing"] == 0, r
-# Relations up to 10 s apart (pairwise odometry drifts on longer ones): well past the
-# published scan-matching row (0.106 +- 0.325 m).
-assert short["translational_error_m"]["mean"] < 0.035, short
-assert short["translational_error_m"]["std"] < 0.05, short
-# All relations, up to 391 s apart: the published scan-matching row of Kuemmerle et al.
-# (0.106 +- 0.325 m) is the bound, in both modes. Today: 0.068 +- 0.139 m without the
-# odometry guess, 0.098 +- 0.227 m with it (docs/performance.md).
-assert r["translational_error_m"]["mean"] < 0.106, r["translational_error_m"]
-assert r["translational_error_m"]["std"] < 0.325, r["translational_error_m"]
+published = {"mit-csail": (1172, 0.106, 0.325), "mit-killian": (4677, 1.651, 4.138)}[log]
+assert r["relations"] == published[0] and r["relations_missing"] == 0, r
+# Relations up to 10 s apart: well past the published rows. Today 0.027 / 0.026 m on CSAIL,
+# 0.046 / 0.031 m on Killian (without / with the odometry guess; docs/performance.md).
+assert short["translational_error_m"]["mean"] < (0.035 if log == "mit-csail" else 0.06), short
+assert short["translational_error_m"]["std"] < 0.1, short
+# All relations (CSAIL up to 391 s apart, Killian's loops up to 4900 s): the published row is
+# the bound. Today CSAIL 0.070 / 0.031 m, Killian 1.374 / 1.505 m; the same logs with every
+# 50th scan left out land at 0.081 / 0.094 and 2.943 / 2.326 m (docs/performance.md): Killian
+# passes on this exact log, not with margin.
+assert r["translational_error_m"]["mean"] < published[1], r["translational_error_m"]
+# The spread: CSAIL's is within its row's; Killian's is 3.3 / 4.3 m against 4.138 (a few
+# loop relations tens of metres off), so it is only kept from growing further.
+assert r["translational_error_m"]["std"] < (published[2] if log == "mit-csail" else 5.0), r["translational_error_m"]
 PY
+  done
 done
 
-# BacktransformLaserScan: a picture and a verdict for one pair, one verdict per pair for
-# the whole log (today 29 of 1987 pairs suspect: a median residual over 3 cm).
+# BacktransformLaserScan (Algorithm 3.1): the running matcher's increments carried back, scored
+# by nearest-point distances. A picture and a verdict for one pair, one verdict per pair for
+# each whole log (today CSAIL 7 of 1987 pairs suspect, median 0.0141 m; Killian 61 of 17479,
+# median 0.0267 m: its rays are 1 degree apart, CSAIL's 0.5).
 "$scanbus" scanmatch backtransform --log "$data/mit-csail.clf" --row 100 --out "$work/pair.png" | grep -q ": ok$"
 [ -s "$work/pair.png" ]
-"$scanbus" scanmatch backtransform --log "$data/mit-csail.clf" --all --json > "$TMPDIR_RESULT"
-python3 - "$TMPDIR_RESULT" <<'PY'
+for log in mit-csail mit-killian; do
+  "$scanbus" scanmatch backtransform --log "$data/$log.clf" --all --json > "$TMPDIR_RESULT"
+  python3 - "$TMPDIR_RESULT" "$log" <<'PY'
 import json, sys
-r = json.load(open(sys.argv[1]))
-assert len(r["pairs"]) == 1987, len(r["pairs"])
-print(f"backtransform: {r['suspect']} of {len(r['pairs'])} pairs suspect, median residual {r['median_of_medians_m']:.4f} m")
-assert r["suspect"] < 60 and r["median_of_medians_m"] < 0.015, {k: r[k] for k in ("suspect", "median_of_medians_m")}
+r, log = json.load(open(sys.argv[1])), sys.argv[2]
+pairs, median_bound = {"mit-csail": (1987, 0.016), "mit-killian": (17479, 0.029)}[log]
+assert len(r["pairs"]) == pairs, len(r["pairs"])
+print(f"backtransform {log}: {r['suspect']} of {len(r['pairs'])} pairs suspect, median residual {r['median_of_medians_m']:.4f} m")
+assert r["suspect"] < 0.01 * pairs and r["median_of_medians_m"] < median_bound, {k: r[k] for k in ("suspect", "median_of_medians_m")}
 PY
+done

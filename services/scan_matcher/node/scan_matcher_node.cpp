@@ -98,8 +98,8 @@ class ScanMatcherService : public Service {
                           ? "scans_matched"
                           : "matches_failed");
     if (result.quality != MatchQuality::Ok && result.quality != MatchQuality::NoReference)
-      log_->warn("match failed ({}): {} correspondences, pose held", static_cast<int>(result.quality),
-                 result.correspondences);
+      log_->warn("match failed ({}): {} correspondences, {} explained; the pose follows the prediction",
+                 static_cast<int>(result.quality), result.correspondences, result.inliers);
     matches_.write(to_message(result, message.header()));
   }
 

@@ -76,6 +76,13 @@ scan_matcher::MatcherSettings mav_matcher_settings() {
   scan_matcher::MatcherSettings settings;
   settings.opening = M_PI / 2;
   settings.max_correspondence = 0.15;
+  // Pairwise as the paper matches, as config/mav/scan_matcher.yaml says why.
+  settings.map_keyframes = 1;
+  settings.map_resolution = 0;
+  settings.keyframe_distance = 0.1;
+  settings.trim = 0.9;
+  settings.robust_scale = 0;
+  settings.min_inlier_ratio = 0;
   return settings;
 }
 

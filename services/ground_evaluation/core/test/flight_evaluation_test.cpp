@@ -22,6 +22,11 @@ TEST(FlightEvaluation, TheMavDeploymentMatchesAsTheEvaluationDoes) {
   EXPECT_DOUBLE_EQ(deployed.max_correspondence, evaluated.max_correspondence);
   EXPECT_DOUBLE_EQ(deployed.range_max, evaluated.range_max);
   EXPECT_DOUBLE_EQ(deployed.trim, evaluated.trim);
+  EXPECT_DOUBLE_EQ(deployed.robust_scale, evaluated.robust_scale);
+  EXPECT_DOUBLE_EQ(deployed.min_inlier_ratio, evaluated.min_inlier_ratio);
+  EXPECT_DOUBLE_EQ(deployed.keyframe_distance, evaluated.keyframe_distance);
+  EXPECT_EQ(deployed.map_keyframes, evaluated.map_keyframes);
+  EXPECT_DOUBLE_EQ(deployed.map_resolution, evaluated.map_resolution);
 }
 
 TEST(FlightEvaluation, TheDeployedFusionIsTheEvaluatedOne) {

@@ -3,6 +3,10 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cmath>
+
+#include "nearest_points.hpp"
+#include "scanbus/scan_matcher/trajectory.hpp"
 
 namespace scanbus::scan_matcher {
 
@@ -13,18 +17,43 @@ double percentile(std::vector<double> values, double share) {
   return *at;
 }
 
-PairCheck check_pair(const ScanMatcher& matcher, const sensor::LaserScan& scan_n, const sensor::LaserScan& scan_n1,
-                     double max_median) {
-  const auto reference = matcher.points_of(scan_n);
-  const auto scan = matcher.points_of(scan_n1);
+PairCheck check_pair(const std::vector<Eigen::Vector2d>& scan_n, const std::vector<Eigen::Vector2d>& scan_n1,
+                     const Pose2& increment, MatchQuality quality, double max_median) {
   PairCheck check;
-  check.match = matcher.align(reference, scan, Pose2{});
-  const std::vector<double> residuals = matcher.residuals(reference, scan, check.match.increment);
-  check.points = residuals.size();
-  check.median = percentile(residuals, 0.5);
-  check.p90 = percentile(residuals, 0.9);
-  check.suspect = check.match.quality != MatchQuality::Ok || !(check.median <= max_median);
+  check.increment = increment;
+  check.quality = quality;
+  std::vector<double> distances;
+  if (!scan_n.empty()) {
+    const NearestPoints search(scan_n);
+    for (const auto& point : carried_back(scan_n1, increment))
+      distances.push_back(std::sqrt(search.nearest(point).distance_squared));
+  }
+  check.points = distances.size();
+  check.median = percentile(distances, 0.5);
+  check.p90 = percentile(distances, 0.9);
+  // A point on a surface scan N sampled every `spacing` lies up to half of that from its nearest
+  // point even when the increment is exact: sparser rays are allowed more.
+  std::vector<double> gaps;
+  for (size_t i = 0; i + 1 < scan_n.size(); ++i) gaps.push_back((scan_n[i + 1] - scan_n[i]).norm());
+  check.spacing = percentile(gaps, 0.5);
+  check.suspect = quality != MatchQuality::Ok || !(check.median <= max_median + check.spacing / 2);
   return check;
+}
+
+std::vector<PairCheck> check_log(const MatcherSettings& settings, const std::vector<LaserRecord>& records,
+                                 bool odometry_guess, double max_median,
+                                 const std::function<void(size_t, size_t)>& progress) {
+  ScanMatcher matcher(settings);
+  std::vector<PairCheck> checks;
+  const auto tracked = track_log(matcher, records, odometry_guess, progress);
+  const auto& poses = tracked.trajectory.poses;
+  for (size_t row = 0; row + 1 < records.size(); ++row) {
+    const Pose2 increment = poses[row].inverse() * poses[row + 1];
+    checks.push_back(check_pair(matcher.points_of(records[row].scan), matcher.points_of(records[row + 1].scan),
+                                increment, tracked.qualities[row + 1], max_median));
+    checks.back().row = row;
+  }
+  return checks;
 }
 
 std::vector<Eigen::Vector2d> carried_back(const std::vector<Eigen::Vector2d>& points, const Pose2& increment) {

@@ -1,27 +1,17 @@
 #include "scanbus/scan_matcher/pl_icp.hpp"
 
+#include "nearest_points.hpp"
+
 #include <Eigen/Dense>
-#include <nanoflann.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <unordered_set>
 
 namespace scanbus::scan_matcher {
 
 namespace {
-
-struct PointSet {
-  std::vector<Eigen::Vector2d> points;
-  size_t kdtree_get_point_count() const { return points.size(); }
-  double kdtree_get_pt(size_t index, size_t dim) const { return points[index][static_cast<int>(dim)]; }
-  template <class Box>
-  bool kdtree_get_bbox(Box&) const {
-    return false;
-  }
-};
-
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointSet>, PointSet, 2>;
 
 struct Correspondence {
   size_t point;
@@ -82,31 +72,97 @@ struct ScanMatcher::Keyframe {
   std::vector<LocalLine> lines;
 };
 
-// Points and their local lines, in the frame they were built in; the lines come from each
-// scan's own ray order, so a map of several keyframes keeps every scan's lines.
+// Points and their local lines in one frame, with a k-d tree over the points.
 struct ScanMatcher::Reference {
-  explicit Reference(const std::vector<const Keyframe*>& keyframes) {
-    for (const Keyframe* keyframe : keyframes) {
-      // As a matrix: Rotation2D computes its sine and cosine again at every product.
-      const Eigen::Matrix2d rotation = Eigen::Rotation2Dd(keyframe->pose.theta).toRotationMatrix();
-      const Eigen::Vector2d translation(keyframe->pose.x, keyframe->pose.y);
-      for (size_t i = 0; i < keyframe->points.size(); ++i) {
-        set.points.push_back(rotation * keyframe->points[i] + translation);
-        LocalLine line = keyframe->lines[i];
-        line.centre = rotation * line.centre + translation;
-        line.normal = rotation * line.normal;
-        lines.push_back(line);
-      }
-    }
-    tree.buildIndex();
-  }
-  PointSet set;
+  Reference(std::vector<Eigen::Vector2d> points, std::vector<LocalLine> reference_lines)
+      : search(std::move(points)), lines(std::move(reference_lines)) {}
+  NearestPoints search;
   std::vector<LocalLine> lines;
-  KdTree tree{2, set, {10}};
 };
 
-ScanMatcher::ScanMatcher(MatcherSettings settings) : settings_(settings) {}
+// The local map: keyframes' points in the first scan's frame, thinned to one point per cell
+// of map_resolution (the first seen stays: older points anchor the newer ones against drift),
+// each with the line of the scan it came from (the lines come from each scan's own ray order,
+// cheaper and steadier than fitting them to map neighbours). Points of keyframes older than
+// the latest map_keyframes leave, so memory and the search stay bounded wherever the sensor goes.
+class ScanMatcher::LocalMap {
+ public:
+  explicit LocalMap(const MatcherSettings& settings) : settings_(settings) {}
+
+  void insert(const Keyframe& keyframe) {
+    ++serial_;
+    const long oldest = serial_ - settings_.map_keyframes + 1;
+    if (!entries_.empty() && entries_.front().serial < oldest) expire(oldest);
+    // As a matrix: Rotation2D computes its sine and cosine again at every product.
+    const Eigen::Matrix2d rotation = Eigen::Rotation2Dd(keyframe.pose.theta).toRotationMatrix();
+    const Eigen::Vector2d translation(keyframe.pose.x, keyframe.pose.y);
+    for (size_t i = 0; i < keyframe.points.size(); ++i) {
+      const Eigen::Vector2d point = rotation * keyframe.points[i] + translation;
+      if (!cells_.insert(cell_of(point)).second) continue;
+      LocalLine line = keyframe.lines[i];
+      line.centre = rotation * line.centre + translation;
+      line.normal = rotation * line.normal;
+      entries_.push_back({point, line, serial_});
+    }
+    std::vector<Eigen::Vector2d> points;
+    std::vector<LocalLine> lines;
+    points.reserve(entries_.size());
+    lines.reserve(entries_.size());
+    for (const Entry& entry : entries_) {
+      points.push_back(entry.point);
+      lines.push_back(entry.line);
+    }
+    reference_ = std::make_unique<Reference>(std::move(points), std::move(lines));
+  }
+
+  const Reference& reference() const { return *reference_; }
+  size_t size() const { return entries_.size(); }
+
+ private:
+  struct Entry {
+    Eigen::Vector2d point;
+    LocalLine line;
+    long serial;  // of the keyframe that brought it
+  };
+
+  // A resolution of 0 keeps every point (each its own cell).
+  uint64_t cell_of(const Eigen::Vector2d& point) {
+    if (settings_.map_resolution <= 0) return next_cell_++;
+    const auto index = [&](double value) {
+      return static_cast<uint64_t>(static_cast<int64_t>(std::floor(value / settings_.map_resolution)) & 0xffffffff);
+    };
+    return index(point.x()) << 32 | index(point.y());
+  }
+
+  void expire(long oldest) {
+    std::deque<Entry> kept;
+    cells_.clear();
+    next_cell_ = 0;
+    for (Entry& entry : entries_)
+      if (entry.serial >= oldest) {
+        cells_.insert(cell_of(entry.point));
+        kept.push_back(std::move(entry));
+      }
+    entries_ = std::move(kept);
+  }
+
+  const MatcherSettings& settings_;
+  std::deque<Entry> entries_;  // oldest first
+  std::unordered_set<uint64_t> cells_;
+  uint64_t next_cell_ = 0;
+  long serial_ = 0;
+  std::unique_ptr<Reference> reference_;
+};
+
+ScanMatcher::ScanMatcher(MatcherSettings settings) : settings_(settings), map_(std::make_unique<LocalMap>(settings_)) {}
 ScanMatcher::~ScanMatcher() = default;
+
+size_t ScanMatcher::map_points() const { return map_->size(); }
+
+ScanMatcher::Reference ScanMatcher::reference_of(const std::vector<Eigen::Vector2d>& points) const {
+  return Reference(
+      points, local_lines(points, settings_.line_neighbours, settings_.min_line_length, settings_.max_segment_gap));
+}
 
 std::vector<Eigen::Vector2d> ScanMatcher::points_of(const sensor::LaserScan& scan) const {
   return sensor::kept_points(scan, {settings_.range_min, settings_.range_max, settings_.opening});
@@ -114,34 +170,13 @@ std::vector<Eigen::Vector2d> ScanMatcher::points_of(const sensor::LaserScan& sca
 
 MatchResult ScanMatcher::align(const std::vector<Eigen::Vector2d>& reference, const std::vector<Eigen::Vector2d>& scan,
                                const Pose2& guess) const {
-  const Keyframe keyframe(Pose2{}, reference, settings_);
-  return align_to(Reference({&keyframe}), scan, guess, guess);
-}
-
-std::vector<double> ScanMatcher::residuals(const std::vector<Eigen::Vector2d>& reference,
-                                           const std::vector<Eigen::Vector2d>& scan, const Pose2& pose) const {
-  const Keyframe keyframe(Pose2{}, reference, settings_);
-  const Reference built({&keyframe});
-  std::vector<double> distances;
-  if (reference.empty()) return distances;
-  const Eigen::Matrix2d rotation = Eigen::Rotation2Dd(pose.theta).toRotationMatrix();
-  for (const auto& point : scan) {
-    const Eigen::Vector2d q = rotation * point + Eigen::Vector2d(pose.x, pose.y);
-    unsigned int nearest = 0;
-    double distance_squared = 0;
-    built.tree.knnSearch(q.data(), 1, &nearest, &distance_squared);
-    const LocalLine& line = built.lines[nearest];
-    if (distance_squared > settings_.max_correspondence * settings_.max_correspondence || !line.valid) continue;
-    distances.push_back(std::abs(line.normal.dot(q - line.centre)));
-  }
-  return distances;
+  return align_to(reference_of(reference), scan, guess, guess);
 }
 
 MatchResult ScanMatcher::align_to(const Reference& reference, const std::vector<Eigen::Vector2d>& scan,
                                   const Pose2& guess, const Pose2& prior) const {
   MatchResult result;
-  const auto& ref = reference.set.points;
-  if (ref.size() < 2) {
+  if (reference.search.points().size() < 2) {
     result.quality = MatchQuality::TooFewCorrespondences;
     return result;
   }
@@ -154,10 +189,7 @@ MatchResult ScanMatcher::align_to(const Reference& reference, const std::vector<
     matches.clear();
     for (size_t i = 0; i < scan.size(); ++i) {
       const Eigen::Vector2d q = rotation * scan[i] + x.head<2>();
-      unsigned int found = 0;  // nanoflann 1.4's index type
-      double distance_squared = 0;
-      reference.tree.knnSearch(q.data(), 1, &found, &distance_squared);
-      const size_t nearest = found;
+      const auto [nearest, distance_squared] = reference.search.nearest(q);
       if (distance_squared > max_distance_squared) continue;
       const LocalLine& line = reference.lines[nearest];
       if (!line.valid) continue;
@@ -184,8 +216,9 @@ MatchResult ScanMatcher::align_to(const Reference& reference, const std::vector<
       const Eigen::Vector2d& q = scan[m.point];
       const Eigen::Vector2d turned(-s * q.x() - c * q.y(), c * q.x() - s * q.y());  // dR/dtheta q
       const Eigen::Vector3d jacobian(m.normal.x(), m.normal.y(), m.normal.dot(turned));
-      hessian += jacobian * jacobian.transpose();
-      gradient += jacobian * m.error;
+      const double weight = cauchy_weight(m.error);
+      hessian += weight * jacobian * jacobian.transpose();
+      gradient += weight * jacobian * m.error;
       error_sum += std::abs(m.error);
     }
     // A weak pull towards the prior: along a corridor, where the walls leave the motion
@@ -217,9 +250,10 @@ MatchResult ScanMatcher::align_to(const Reference& reference, const std::vector<
   return result;
 }
 
-MatchResult ScanMatcher::add_scan(const sensor::LaserScan& scan, const std::optional<Pose2>& motion_guess) {
+MatchResult ScanMatcher::add_scan(const sensor::LaserScan& scan, const std::optional<Pose2>& guess) {
   std::vector<Eigen::Vector2d> points = points_of(scan);
-  if (keyframes_.empty()) {
+  const std::optional<Pose2> motion_guess = plausible(guess);
+  if (!keyframe_) {
     add_keyframe(std::move(points));
     MatchResult first;
     first.quality = MatchQuality::NoReference;
@@ -230,22 +264,59 @@ MatchResult ScanMatcher::add_scan(const sensor::LaserScan& scan, const std::opti
   MatchResult result = best_alignment(points, motion_guess);
   const Pose2 previous = pose_;
   const Pose2 matched = result.increment;  // align_to's result is the pose in the map frame
-  if (result.quality == MatchQuality::Ok && (previous.inverse() * matched).distance() > settings_.max_jump)
-    result.quality = MatchQuality::Diverged;
-  if (result.quality == MatchQuality::Ok) {
-    pose_ = matched;  // a failed match holds the pose
-    typical_residual_ = typical_residual_ == 0 ? result.residual : 0.9 * typical_residual_ + 0.1 * result.residual;
+  judge(result, previous.inverse() * matched, points.size());
+  const bool ok = result.quality == MatchQuality::Ok;
+  if (ok) {
+    pose_ = matched;
+    failures_ = 0;
+  } else {
+    // A failed match follows the prediction once; after that the pose is held unless a
+    // guess (odometry) says otherwise: a velocity kept up blindly takes the pose away.
+    pose_ = pose_ * motion_guess.value_or(last_increment_);
+    ++failures_;
   }
   result.increment = previous.inverse() * pose_;
-  last_increment_ = result.quality == MatchQuality::Ok ? result.increment : Pose2{};
+  last_increment_ = ok ? result.increment : Pose2{};
   result.pose = pose_;
-  const Pose2 from_keyframe = keyframes_.back()->pose.inverse() * pose_;
-  if (result.quality == MatchQuality::Ok && (from_keyframe.distance() > settings_.keyframe_distance ||
-                                             std::abs(from_keyframe.theta) > settings_.keyframe_angle)) {
-    add_keyframe(std::move(points));
-    result.keyframe = true;
+  const Pose2 from_keyframe = keyframe_->pose.inverse() * pose_;
+  if (failures_ >= settings_.lost_after) {
+    // Lost: the map no longer explains the scans. It starts again here rather than hold a
+    // pose, or follow a guess, against a map that will never match.
+    map_ = std::make_unique<LocalMap>(settings_);
+    failures_ = 0;
+    typical_residual_ = typical_inlier_share_ = 0;  // of a place left behind
+  } else if (!ok || (from_keyframe.distance() <= settings_.keyframe_distance &&
+                     std::abs(from_keyframe.theta) <= settings_.keyframe_angle)) {
+    return result;
   }
+  add_keyframe(std::move(points));
+  result.keyframe = true;
   return result;
+}
+
+// A match that moved too far is a divergence; one explaining far fewer of its points than the
+// recent matches did is a wrong minimum (a turn taken for another, clutter in front).
+void ScanMatcher::judge(MatchResult& result, const Pose2& increment, size_t points) {
+  if (result.quality != MatchQuality::Ok) return;
+  const double share = static_cast<double>(result.inliers) / static_cast<double>(std::max<size_t>(1, points));
+  if (increment.distance() > settings_.max_jump) {
+    result.quality = MatchQuality::Diverged;
+  } else if (share < settings_.min_inlier_ratio * typical_inlier_share_) {
+    result.quality = MatchQuality::Ambiguous;
+  } else {
+    const auto running = [](double mean, double value) { return mean == 0 ? value : 0.9 * mean + 0.1 * value; };
+    typical_residual_ = running(typical_residual_, result.residual);
+    typical_inlier_share_ = running(typical_inlier_share_, share);
+  }
+}
+
+// Odometry that jumps (a wheel slipping, a glitch in its stamps) would start the match far
+// off: a guess this unlike the motion just matched is dropped for the constant velocity.
+std::optional<Pose2> ScanMatcher::plausible(const std::optional<Pose2>& guess) const {
+  if (!guess) return guess;
+  const Pose2 change = last_increment_.inverse() * *guess;
+  if (change.distance() > settings_.guess_jump || std::abs(change.theta) > settings_.guess_turn) return std::nullopt;
+  return guess;
 }
 
 // A wrong initial guess (odometry lagging, a turn reversing or speeding up) converges to a
@@ -256,7 +327,7 @@ MatchResult ScanMatcher::best_alignment(const std::vector<Eigen::Vector2d>& poin
                                         const std::optional<Pose2>& motion_guess) const {
   const Pose2 guess = motion_guess.value_or(last_increment_);
   const Pose2 prior = pose_ * guess;
-  MatchResult best = align_to(*map_, points, pose_ * guess, prior);
+  MatchResult best = align_to(map_->reference(), points, pose_ * guess, prior);
   const bool plausible = best.quality == MatchQuality::Ok &&
                          (typical_residual_ == 0 || best.residual < settings_.suspicious_residual * typical_residual_);
   if (plausible) return best;
@@ -265,7 +336,7 @@ MatchResult ScanMatcher::best_alignment(const std::vector<Eigen::Vector2d>& poin
   for (const double turn : {-30.0, -20.0, -10.0, 10.0, 20.0, 30.0})
     motions.push_back({guess.x, guess.y, Pose2::normalize(guess.theta + turn * kDegree)});
   for (const Pose2& motion : motions) {
-    MatchResult result = align_to(*map_, points, pose_ * motion, prior);
+    MatchResult result = align_to(map_->reference(), points, pose_ * motion, prior);
     const bool better =
         result.quality == MatchQuality::Ok && (best.quality != MatchQuality::Ok || result.inliers > best.inliers ||
                                                (result.inliers == best.inliers && result.residual < best.residual));
@@ -275,11 +346,8 @@ MatchResult ScanMatcher::best_alignment(const std::vector<Eigen::Vector2d>& poin
 }
 
 void ScanMatcher::add_keyframe(std::vector<Eigen::Vector2d> points) {
-  keyframes_.push_back(std::make_unique<Keyframe>(pose_, std::move(points), settings_));
-  while (keyframes_.size() > static_cast<size_t>(settings_.map_keyframes)) keyframes_.pop_front();
-  std::vector<const Keyframe*> in_map;
-  for (const auto& keyframe : keyframes_) in_map.push_back(keyframe.get());
-  map_ = std::make_unique<Reference>(in_map);
+  keyframe_ = std::make_unique<Keyframe>(pose_, std::move(points), settings_);
+  map_->insert(*keyframe_);
 }
 
 }  // namespace scanbus::scan_matcher
@@ -306,7 +374,13 @@ MatcherSettings matcher_settings_from_config(const Config& section) {
   s.inlier_distance = section.number("inlier_distance", s.inlier_distance, 0.001, 10);
   s.prior_weight = section.number("prior_weight", s.prior_weight, 0, 1e6);
   s.suspicious_residual = section.number("suspicious_residual", s.suspicious_residual, 1, 1000);
-  s.map_keyframes = static_cast<int>(section.integer("map_keyframes", s.map_keyframes, 1, 1000));
+  s.map_keyframes = static_cast<int>(section.integer("map_keyframes", s.map_keyframes, 1, 100000));
+  s.guess_jump = section.number("guess_jump", s.guess_jump, 0, 1000);
+  s.guess_turn = section.number("guess_turn", s.guess_turn / kDegree, 0, 360) * kDegree;
+  s.robust_scale = section.number("robust_scale", s.robust_scale, 0, 10);
+  s.map_resolution = section.number("map_resolution", s.map_resolution, 0, 10);
+  s.lost_after = static_cast<int>(section.integer("lost_after", s.lost_after, 1, 100000));
+  s.min_inlier_ratio = section.number("min_inlier_ratio", s.min_inlier_ratio, 0, 1);
   if (s.range_max <= s.range_min) section.fail("range_max", "must be larger than range_min");
   return s;
 }

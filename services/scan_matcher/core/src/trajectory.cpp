@@ -47,6 +47,7 @@ TrackedLog track_log(ScanMatcher& matcher, const std::vector<LaserRecord>& recor
     const MatchResult result = matcher.add_scan(records[i].scan, guess);
     tracked.matching_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     tracked.failed += i > 0 && result.quality != MatchQuality::Ok;
+    tracked.qualities.push_back(result.quality);
     tracked.trajectory.stamps.push_back(records[i].scan.stamp);
     tracked.trajectory.poses.push_back(result.pose);
     if (progress) progress(i + 1, records.size());

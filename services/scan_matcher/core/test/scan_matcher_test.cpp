@@ -148,6 +148,78 @@ TEST(PlIcpSynthetic, DownwardOverFlatGroundRecoversHeightAndPitch) {
   EXPECT_GT(errors.covariance(1, 1), 100 * errors.covariance(0, 0)) << errors.covariance;
 }
 
+// 160 scans 0.15 m apart down the corridor (24 m, each a keyframe): a map of the latest 40
+// keyframes stops growing once it has them, one point per 5 cm cell; a map keeping every
+// keyframe grows with the distance travelled.
+TEST(ScanToMap, TheMapStaysBoundedWhereverTheSensorGoes) {
+  const auto fly = [](int map_keyframes) {
+    const LaserWorld corridor = LaserWorld::corridor();
+    std::mt19937 random(5);
+    MatcherSettings settings;
+    settings.keyframe_distance = 0.1;  // every scan
+    settings.map_keyframes = map_keyframes;
+    ScanMatcher matcher(settings);
+    Pose2 truth{-4, 0.1, 0};
+    std::vector<size_t> sizes;  // after each keyframe
+    for (int i = 0; i < 160; ++i, truth = truth * Pose2{0.15, 0, 0}) {
+      const MatchResult result = matcher.add_scan(corridor.scan(truth, {}, random), Pose2{0.15, 0, 0});
+      EXPECT_TRUE(i == 0 || result.quality == MatchQuality::Ok) << "scan " << i;
+      if (result.keyframe) sizes.push_back(matcher.map_points());
+    }
+    // Along the corridor only the recesses' sides hold the match, and they pull it forward:
+    // 0.15 m over 24 m with 40 keyframes, 0.11 m pairwise (1 keyframe), 0.31 m here.
+    EXPECT_NEAR(matcher.pose().x, 159 * 0.15, 0.5) << map_keyframes;
+    return sizes;
+  };
+  const std::vector<size_t> bounded = fly(40), unbounded = fly(1000);
+  ASSERT_EQ(bounded.size(), 160u);
+  const size_t filled = *std::max_element(bounded.begin(), bounded.begin() + 45);
+  EXPECT_LT(*std::max_element(bounded.begin() + 45, bounded.end()), 1.2 * filled);
+  EXPECT_GT(unbounded.back(), 2 * bounded.back());
+  EXPECT_LT(unbounded.back(), 160 * 361 / 10);  // thinned: walls seen again fill no new cells
+}
+
+// Odometry that jumps (50 degrees in one scan, as MIT CSAIL's wheel odometry does at scan
+// 325) is dropped for the constant velocity: the match is the one made without any guess.
+TEST(ScanToMap, OdometryThatJumpsIsNotFollowed) {
+  const LaserWorld room = LaserWorld::room();
+  const Pose2 step{0.05, 0, 1 * M_PI / 180};
+  ScanMatcher with_jump, without;
+  std::mt19937 random(9);
+  Pose2 truth{-1.5, -0.5, 0.2};
+  for (int i = 0; i < 20; ++i) {
+    const auto scan = room.scan(truth, {}, random);
+    const bool jump = i == 12;
+    const MatchResult a = with_jump.add_scan(scan, jump ? Pose2{0.8, 0.02, 50 * M_PI / 180} : step);
+    const MatchResult b = without.add_scan(scan, jump ? std::nullopt : std::optional<Pose2>(step));
+    ASSERT_EQ(a.pose.x, b.pose.x) << "scan " << i;
+    ASSERT_EQ(a.pose.theta, b.pose.theta) << "scan " << i;
+    truth = truth * step;
+  }
+}
+
+// Scans of another place entirely (the sensor carried elsewhere): the matches fail, and
+// after lost_after of them the map starts again from the scan, so matching goes on.
+TEST(ScanToMap, ALostMatcherStartsItsMapAgain) {
+  const LaserWorld room = LaserWorld::room(), corridor = LaserWorld::corridor();
+  std::mt19937 random(11);
+  MatcherSettings settings;
+  settings.lost_after = 5;
+  ScanMatcher matcher(settings);
+  Pose2 truth{-1.5, -0.5, 0.2};
+  for (int i = 0; i < 10; ++i, truth = truth * Pose2{0.05, 0, 0}) matcher.add_scan(room.scan(truth, {}, random));
+  Pose2 elsewhere{-10, 0.1, 0};
+  int failed = 0, restarted_at = -1;
+  for (int i = 0; i < 20; ++i, elsewhere = elsewhere * Pose2{0.1, 0, 0}) {
+    const MatchResult result = matcher.add_scan(corridor.scan(elsewhere, {}, random));
+    if (result.quality != MatchQuality::Ok) ++failed;
+    if (result.quality != MatchQuality::Ok && result.keyframe && restarted_at < 0) restarted_at = i;
+    if (restarted_at >= 0 && i > restarted_at + 1) EXPECT_EQ(result.quality, MatchQuality::Ok) << "scan " << i;
+  }
+  EXPECT_EQ(restarted_at, 4);  // the fifth failure in a row
+  EXPECT_EQ(failed, 5);
+}
+
 TEST(PlIcp, BadRangesAreDroppedAndTooFewPointsHoldThePose) {
   ScanMatcher matcher;
   scanbus::sensor::LaserScan scan;

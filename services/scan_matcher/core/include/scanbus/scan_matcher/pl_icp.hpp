@@ -30,27 +30,40 @@ struct MatcherSettings {
                                     // with 2 cm noise and 0.5 degree rays two points give no
                                     // usable direction
   double min_line_length = 0.3;     // m: more neighbours join until the line spans this
-  double trim = 0.9;                // share of correspondences kept, best first
+  double trim = 1.0;                // share of correspondences kept, best first
+  double robust_scale = 0.03;       // m: the kept correspondences weigh 1 / (1 + (error / scale)^2)
+                                    // (Cauchy), so a surface that moved pulls little; 0: all weigh 1.
+                                    // About twice a SICK LMS's systematic range error (15 mm)
   int max_iterations = 20;
   double epsilon = 1e-4;  // m and rad: converged when a step is smaller
   size_t min_correspondences = 30;
-  double max_jump = 1.0;           // m per scan: a larger increment is a divergence
-  double keyframe_distance = 0.1;  // m since the keyframe before a new one
+  double max_jump = 1.0;                // m per scan: a larger increment is a divergence
+  double min_inlier_ratio = 0.5;        // a match explaining fewer points than this share of what the
+                                        // recent matches explained is a wrong minimum: not taken
+  int lost_after = 20;                  // this many failed matches in a row start the map again
+  double prior_weight = 1.0;            // pull towards the initial guess, per m (and rad) squared,
+                                        // against one per correspondence: keeps unconstrained
+                                        // directions (a corridor's length) at the prediction
+  double guess_jump = 0.3;              // m and rad: a motion guess (odometry) this far from the
+  double guess_turn = 20 * M_PI / 180;  // last matched increment is the odometry jumping: more than
+                                        // an indoor robot's motion changes between two scans
+  double suspicious_residual = 2.0;     // a residual this many times the recent ones makes the
+                                        // matcher try other initial guesses
+  double inlier_distance = 0.05;        // m: a point this close to its line counts as explained
+  // The local map.
+  double keyframe_distance = 0.5;  // m since the keyframe before a new one
   double keyframe_angle = 10 * M_PI / 180;
-  double prior_weight = 1.0;         // pull towards the initial guess, per m (and rad) squared,
-                                     // against one per correspondence: keeps unconstrained
-                                     // directions (a corridor's length) at the prediction
-  double suspicious_residual = 2.0;  // a residual this many times the recent ones makes the
-                                     // matcher try other initial guesses
-  double inlier_distance = 0.05;     // m: a point this close to its line counts as explained
-  int map_keyframes = 1;             // the reference is the union of this many latest keyframes
+  int map_keyframes = 40;        // the map holds the points of this many latest keyframes: 20 m of
+                                 // travel, over which a 1 degree scanner still resolves walls
+  double map_resolution = 0.05;  // m: one map point per cell this wide (0: every point): the ray
+                                 // spacing of a 0.5 degree scanner at 6 m
 };
 
 // Section `scan_matcher.matcher` of config/services/scan_matcher.yaml (angles in degrees
 // there, radians here).
 MatcherSettings matcher_settings_from_config(const Config& section);
 
-enum class MatchQuality : uint8_t { Ok = 0, TooFewCorrespondences = 1, Diverged = 2, NoReference = 3 };
+enum class MatchQuality : uint8_t { Ok = 0, TooFewCorrespondences = 1, Diverged = 2, NoReference = 3, Ambiguous = 4 };
 
 struct MatchResult {
   MatchQuality quality = MatchQuality::NoReference;
@@ -71,41 +84,49 @@ class ScanMatcher {
   ScanMatcher(const ScanMatcher&) = delete;
   ScanMatcher& operator=(const ScanMatcher&) = delete;
 
-  // Matches against the keyframe. `motion_guess` is the expected motion since the previous
-  // scan (e.g. from odometry); without it the previous increment is assumed again. A
-  // failed match holds the pose (or follows the guess when one was given).
+  // Matches against the local map. `motion_guess` is the expected motion since the previous
+  // scan (e.g. from odometry); without it, or when it jumps (guess_jump, guess_turn), the
+  // previous increment is assumed again (constant velocity). A failed match follows that
+  // prediction once and holds the pose after (or follows the guess when one was given);
+  // lost_after failures in a row start the map again from the scan.
   MatchResult add_scan(const sensor::LaserScan& scan, const std::optional<Pose2>& motion_guess = std::nullopt);
 
   const Pose2& pose() const { return pose_; }
+  size_t map_points() const;
   std::vector<Eigen::Vector2d> points_of(const sensor::LaserScan& scan) const;
 
   // One PL-ICP alignment of `scan` to `reference` from `guess` (the scan's pose in the
-  // reference frame); for BacktransformLaserScan and tests.
+  // reference frame), without a map.
   MatchResult align(const std::vector<Eigen::Vector2d>& reference, const std::vector<Eigen::Vector2d>& scan,
                     const Pose2& guess) const;
-
-  // BacktransformLaserScan's check, as numbers: |point-to-line distance| of each point of
-  // `scan` placed at `pose` to the reference's local line at its nearest point (points with
-  // no reference point within max_correspondence, or no line there, are left out).
-  std::vector<double> residuals(const std::vector<Eigen::Vector2d>& reference, const std::vector<Eigen::Vector2d>& scan,
-                                const Pose2& pose) const;
 
  private:
   struct Keyframe;
   struct Reference;
+  class LocalMap;
+  Reference reference_of(const std::vector<Eigen::Vector2d>& points) const;
   // Gauss-Newton from `guess`, weakly pulled towards `prior` (both in the reference frame).
   MatchResult align_to(const Reference& reference, const std::vector<Eigen::Vector2d>& scan, const Pose2& guess,
                        const Pose2& prior) const;
+  double cauchy_weight(double error) const {
+    if (settings_.robust_scale <= 0) return 1;
+    const double ratio = error / settings_.robust_scale;
+    return 1 / (1 + ratio * ratio);
+  }
+  std::optional<Pose2> plausible(const std::optional<Pose2>& guess) const;
+  void judge(MatchResult& result, const Pose2& increment, size_t points);
   MatchResult best_alignment(const std::vector<Eigen::Vector2d>& points,
                              const std::optional<Pose2>& motion_guess) const;
   void add_keyframe(std::vector<Eigen::Vector2d> points);
 
   MatcherSettings settings_;
-  std::deque<std::unique_ptr<Keyframe>> keyframes_;  // oldest first
-  std::unique_ptr<Reference> map_;                   // the keyframes' points in the first scan's frame
+  std::unique_ptr<Keyframe> keyframe_;  // the latest
+  std::unique_ptr<LocalMap> map_;       // in the first scan's frame
   Pose2 pose_;
   Pose2 last_increment_;
-  double typical_residual_ = 0;  // m, running mean of accepted matches' residuals
+  double typical_residual_ = 0;      // m, running mean of accepted matches' residuals
+  int failures_ = 0;                 // failed matches in a row
+  double typical_inlier_share_ = 0;  // running mean of accepted matches' inliers per point
 };
 
 }  // namespace scanbus::scan_matcher

@@ -23,9 +23,10 @@ void write_trajectory(const std::string& path, const Trajectory& trajectory);
 Trajectory read_trajectory(const std::string& path);
 
 struct TrackedLog {
-  Trajectory trajectory;        // every scan's pose, failed matches held
-  size_t failed = 0;            // matches after the first scan that were not Ok
-  double matching_seconds = 0;  // wall time inside the matcher
+  Trajectory trajectory;                // every scan's pose, failed matches held
+  std::vector<MatchQuality> qualities;  // of each scan's match (the first: NoReference)
+  size_t failed = 0;                    // matches after the first scan that were not Ok
+  double matching_seconds = 0;          // wall time inside the matcher
 };
 
 // Every scan of the log through `matcher` in order; with `odometry_guess`, the wheel

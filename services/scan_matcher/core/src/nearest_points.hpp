@@ -1,0 +1,47 @@
+// Nearest-neighbour search over 2D points (nanoflann's k-d tree); shared by the matcher's map
+// and BacktransformLaserScan's residuals. Not installed: nanoflann stays out of the public headers.
+#pragma once
+
+#include <Eigen/Core>
+#include <nanoflann.hpp>
+
+#include <vector>
+
+namespace scanbus::scan_matcher {
+
+class NearestPoints {
+ public:
+  explicit NearestPoints(std::vector<Eigen::Vector2d> points) : set_{std::move(points)} { tree_.buildIndex(); }
+  NearestPoints(const NearestPoints&) = delete;  // the tree refers to the points
+  NearestPoints& operator=(const NearestPoints&) = delete;
+
+  struct Found {
+    size_t index;
+    double distance_squared;
+  };
+  // The point nearest to `query`; there must be at least one.
+  Found nearest(const Eigen::Vector2d& query) const {
+    unsigned int index = 0;  // nanoflann 1.4's index type
+    double distance_squared = 0;
+    tree_.knnSearch(query.data(), 1, &index, &distance_squared);
+    return {index, distance_squared};
+  }
+  const std::vector<Eigen::Vector2d>& points() const { return set_.points; }
+
+ private:
+  struct PointSet {
+    std::vector<Eigen::Vector2d> points;
+    size_t kdtree_get_point_count() const { return points.size(); }
+    double kdtree_get_pt(size_t index, size_t dim) const { return points[index][static_cast<int>(dim)]; }
+    template <class Box>
+    bool kdtree_get_bbox(Box&) const {
+      return false;
+    }
+  };
+  using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointSet>, PointSet, 2>;
+
+  PointSet set_;
+  KdTree tree_{2, set_, {10}};
+};
+
+}  // namespace scanbus::scan_matcher
