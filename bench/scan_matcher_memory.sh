@@ -38,6 +38,8 @@ python3 - "$work/rss.txt" "$work/scan_matcher.log" <<'PY'
 import sys
 samples = [tuple(map(int, line.split())) for line in open(sys.argv[1]) if len(line.split()) == 2]
 n = len(samples)
+if n < 10:
+    sys.exit(f"only {n} samples of the service's memory: the replay ended too soon (see the service's log)")
 warm, half = n // 10, n // 2
 first = max(kb for _, kb in samples[warm:half])
 second = max(kb for _, kb in samples[half:])

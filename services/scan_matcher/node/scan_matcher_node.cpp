@@ -93,13 +93,15 @@ class ScanMatcherService : public Service {
     std::lock_guard<std::mutex> lock(mutex_);
     const MatchResult result = matcher_.add_scan(*scan, imu_guess(stamp));
     previous_stamp_ = stamp;
-    last_increment_ = result.increment;
+    // The IMU guess's translation: the matched one, none after a failure (as the matcher holds).
+    last_increment_ = result.quality == MatchQuality::Ok ? result.increment : Pose2{};
     ++health_.counter(result.quality == MatchQuality::Ok || result.quality == MatchQuality::NoReference
                           ? "scans_matched"
                           : "matches_failed");
     if (result.quality != MatchQuality::Ok && result.quality != MatchQuality::NoReference)
-      log_->warn("match failed ({}): {} correspondences, {} explained; the pose follows the prediction",
-                 static_cast<int>(result.quality), result.correspondences, result.inliers);
+      log_->warn(
+          "match failed ({}): {} correspondences, {} explained; the pose follows the prediction once, then holds",
+          static_cast<int>(result.quality), result.correspondences, result.inliers);
     matches_.write(to_message(result, message.header()));
   }
 

@@ -27,6 +27,10 @@ TEST(FlightEvaluation, TheMavDeploymentMatchesAsTheEvaluationDoes) {
   EXPECT_DOUBLE_EQ(deployed.keyframe_distance, evaluated.keyframe_distance);
   EXPECT_EQ(deployed.map_keyframes, evaluated.map_keyframes);
   EXPECT_DOUBLE_EQ(deployed.map_resolution, evaluated.map_resolution);
+  EXPECT_DOUBLE_EQ(deployed.keyframe_angle, evaluated.keyframe_angle);
+  EXPECT_EQ(deployed.lost_after, evaluated.lost_after);
+  EXPECT_DOUBLE_EQ(deployed.guess_jump, evaluated.guess_jump);
+  EXPECT_DOUBLE_EQ(deployed.guess_turn, evaluated.guess_turn);
 }
 
 TEST(FlightEvaluation, TheDeployedFusionIsTheEvaluatedOne) {

@@ -11,7 +11,8 @@ namespace scanbus::scan_matcher {
 
 class NearestPoints {
  public:
-  explicit NearestPoints(std::vector<Eigen::Vector2d> points) : set_{std::move(points)} { tree_.buildIndex(); }
+  // nanoflann 1.4 builds the tree in its constructor (set_ is initialised before tree_).
+  explicit NearestPoints(std::vector<Eigen::Vector2d> points) : set_{std::move(points)} {}
   NearestPoints(const NearestPoints&) = delete;  // the tree refers to the points
   NearestPoints& operator=(const NearestPoints&) = delete;
 

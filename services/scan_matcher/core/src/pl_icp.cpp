@@ -1,6 +1,7 @@
 #include "scanbus/scan_matcher/pl_icp.hpp"
 
 #include "nearest_points.hpp"
+#include "scanbus/scan_matcher/backtransform.hpp"
 
 #include <Eigen/Dense>
 
@@ -83,36 +84,36 @@ struct ScanMatcher::Reference {
 // The local map: keyframes' points in the first scan's frame, thinned to one point per cell
 // of map_resolution (the first seen stays: older points anchor the newer ones against drift),
 // each with the line of the scan it came from (the lines come from each scan's own ray order,
-// cheaper and steadier than fitting them to map neighbours). Points of keyframes older than
-// the latest map_keyframes leave, so memory and the search stay bounded wherever the sensor goes.
+// cheaper and steadier than fitting them to map neighbours). A point leaves with its keyframe
+// once that is older than the latest map_keyframes, and the keyframe coming in fills the cells
+// it sees again, so memory and the search stay bounded wherever the sensor goes. (Keeping a
+// cell as long as any kept keyframe sees it was measured worse on both Freiburg logs: it keeps
+// far, noisy first sightings; docs/performance.md.)
 class ScanMatcher::LocalMap {
  public:
-  explicit LocalMap(const MatcherSettings& settings) : settings_(settings) {}
+  LocalMap(int keyframes, double resolution) : keyframes_(keyframes), resolution_(resolution) {}
 
   void insert(const Keyframe& keyframe) {
     ++serial_;
-    const long oldest = serial_ - settings_.map_keyframes + 1;
-    if (!entries_.empty() && entries_.front().serial < oldest) expire(oldest);
-    // As a matrix: Rotation2D computes its sine and cosine again at every product.
+    expire(serial_ - keyframes_ + 1);  // first: a cell it leaves empty, this keyframe may fill
+    const std::vector<Eigen::Vector2d> points = carried_back(keyframe.points, keyframe.pose);
     const Eigen::Matrix2d rotation = Eigen::Rotation2Dd(keyframe.pose.theta).toRotationMatrix();
-    const Eigen::Vector2d translation(keyframe.pose.x, keyframe.pose.y);
-    for (size_t i = 0; i < keyframe.points.size(); ++i) {
-      const Eigen::Vector2d point = rotation * keyframe.points[i] + translation;
-      if (!cells_.insert(cell_of(point)).second) continue;
+    for (size_t i = 0; i < points.size(); ++i) {
+      if (!cells_.insert(cell_of(points[i])).second) continue;
       LocalLine line = keyframe.lines[i];
-      line.centre = rotation * line.centre + translation;
+      line.centre = rotation * line.centre + Eigen::Vector2d(keyframe.pose.x, keyframe.pose.y);
       line.normal = rotation * line.normal;
-      entries_.push_back({point, line, serial_});
+      entries_.push_back({points[i], line, serial_});
     }
-    std::vector<Eigen::Vector2d> points;
+    std::vector<Eigen::Vector2d> map_points;
     std::vector<LocalLine> lines;
-    points.reserve(entries_.size());
+    map_points.reserve(entries_.size());
     lines.reserve(entries_.size());
     for (const Entry& entry : entries_) {
-      points.push_back(entry.point);
+      map_points.push_back(entry.point);
       lines.push_back(entry.line);
     }
-    reference_ = std::make_unique<Reference>(std::move(points), std::move(lines));
+    reference_ = std::make_unique<Reference>(std::move(map_points), std::move(lines));
   }
 
   const Reference& reference() const { return *reference_; }
@@ -127,34 +128,33 @@ class ScanMatcher::LocalMap {
 
   // A resolution of 0 keeps every point (each its own cell).
   uint64_t cell_of(const Eigen::Vector2d& point) {
-    if (settings_.map_resolution <= 0) return next_cell_++;
+    if (resolution_ <= 0) return next_cell_++;
     const auto index = [&](double value) {
-      return static_cast<uint64_t>(static_cast<int64_t>(std::floor(value / settings_.map_resolution)) & 0xffffffff);
+      return static_cast<uint64_t>(static_cast<int64_t>(std::floor(value / resolution_)) & 0xffffffff);
     };
     return index(point.x()) << 32 | index(point.y());
   }
 
   void expire(long oldest) {
-    std::deque<Entry> kept;
+    const auto old = [&](const Entry& entry) { return entry.serial < oldest; };
+    if (std::none_of(entries_.begin(), entries_.end(), old)) return;
+    entries_.erase(std::remove_if(entries_.begin(), entries_.end(), old), entries_.end());
     cells_.clear();
     next_cell_ = 0;
-    for (Entry& entry : entries_)
-      if (entry.serial >= oldest) {
-        cells_.insert(cell_of(entry.point));
-        kept.push_back(std::move(entry));
-      }
-    entries_ = std::move(kept);
+    for (const Entry& entry : entries_) cells_.insert(cell_of(entry.point));
   }
 
-  const MatcherSettings& settings_;
-  std::deque<Entry> entries_;  // oldest first
+  const int keyframes_;
+  const double resolution_;
+  std::vector<Entry> entries_;
   std::unordered_set<uint64_t> cells_;
   uint64_t next_cell_ = 0;
   long serial_ = 0;
   std::unique_ptr<Reference> reference_;
 };
 
-ScanMatcher::ScanMatcher(MatcherSettings settings) : settings_(settings), map_(std::make_unique<LocalMap>(settings_)) {}
+ScanMatcher::ScanMatcher(MatcherSettings settings)
+    : settings_(settings), map_(std::make_unique<LocalMap>(settings.map_keyframes, settings.map_resolution)) {}
 ScanMatcher::~ScanMatcher() = default;
 
 size_t ScanMatcher::map_points() const { return map_->size(); }
@@ -204,9 +204,11 @@ MatchResult ScanMatcher::align_to(const Reference& reference, const std::vector<
     // Trimming: the worst matches are outliers (moved objects, new surfaces).
     const size_t keep = std::max(settings_.min_correspondences,
                                  static_cast<size_t>(settings_.trim * static_cast<double>(matches.size())));
-    std::nth_element(matches.begin(), matches.begin() + static_cast<long>(keep - 1), matches.end(),
-                     [](const auto& a, const auto& b) { return std::abs(a.error) < std::abs(b.error); });
-    matches.resize(keep);
+    if (keep < matches.size()) {
+      std::nth_element(matches.begin(), matches.begin() + static_cast<long>(keep - 1), matches.end(),
+                       [](const auto& a, const auto& b) { return std::abs(a.error) < std::abs(b.error); });
+      matches.resize(keep);
+    }
     // Gauss-Newton on e_i = n_i . (R(theta) q_i + t - p_i).
     hessian.setZero();
     Eigen::Vector3d gradient = Eigen::Vector3d::Zero();
@@ -241,9 +243,14 @@ MatchResult ScanMatcher::align_to(const Reference& reference, const std::vector<
   result.iterations = std::min(result.iterations, settings_.max_iterations);
   result.increment = {x[0], x[1], x[2]};
   if (result.quality == MatchQuality::Ok) {
-    double squares = 0;
-    for (const auto& m : matches) squares += m.error * m.error;
-    const double variance = squares / std::max<double>(1.0, static_cast<double>(matches.size()) - 3);
+    // The kernel's weights count as the correspondences they leave: an outlier adds no variance.
+    double squares = 0, weights = 0;
+    for (const auto& m : matches) {
+      const double weight = cauchy_weight(m.error);
+      squares += weight * m.error * m.error;
+      weights += weight;
+    }
+    const double variance = squares / std::max(1.0, weights - 3);
     // From the scan alone (without the prior), so an unconstrained direction shows as one.
     result.covariance = variance * (hessian + 1e-9 * Eigen::Matrix3d::Identity()).inverse();
   }
@@ -252,15 +259,16 @@ MatchResult ScanMatcher::align_to(const Reference& reference, const std::vector<
 
 MatchResult ScanMatcher::add_scan(const sensor::LaserScan& scan, const std::optional<Pose2>& guess) {
   std::vector<Eigen::Vector2d> points = points_of(scan);
-  const std::optional<Pose2> motion_guess = plausible(guess);
-  if (!keyframe_) {
-    add_keyframe(std::move(points));
+  const bool usable = points.size() >= settings_.min_correspondences;  // could start a map
+  if (!keyframe_pose_) {
     MatchResult first;
     first.quality = MatchQuality::NoReference;
     first.pose = pose_;
-    first.keyframe = true;
+    first.keyframe = usable;
+    if (usable) add_keyframe(std::move(points));
     return first;
   }
+  const std::optional<Pose2> motion_guess = plausible(guess);
   MatchResult result = best_alignment(points, motion_guess);
   const Pose2 previous = pose_;
   const Pose2 matched = result.increment;  // align_to's result is the pose in the map frame
@@ -277,12 +285,13 @@ MatchResult ScanMatcher::add_scan(const sensor::LaserScan& scan, const std::opti
   }
   result.increment = previous.inverse() * pose_;
   last_increment_ = ok ? result.increment : Pose2{};
+  if (ok) last_taken_ = result.increment;
   result.pose = pose_;
-  const Pose2 from_keyframe = keyframe_->pose.inverse() * pose_;
-  if (failures_ >= settings_.lost_after) {
+  const Pose2 from_keyframe = keyframe_pose_->inverse() * pose_;
+  if (failures_ >= settings_.lost_after && usable) {
     // Lost: the map no longer explains the scans. It starts again here rather than hold a
     // pose, or follow a guess, against a map that will never match.
-    map_ = std::make_unique<LocalMap>(settings_);
+    map_ = std::make_unique<LocalMap>(settings_.map_keyframes, settings_.map_resolution);
     failures_ = 0;
     typical_residual_ = typical_inlier_share_ = 0;  // of a place left behind
   } else if (!ok || (from_keyframe.distance() <= settings_.keyframe_distance &&
@@ -311,10 +320,10 @@ void ScanMatcher::judge(MatchResult& result, const Pose2& increment, size_t poin
 }
 
 // Odometry that jumps (a wheel slipping, a glitch in its stamps) would start the match far
-// off: a guess this unlike the motion just matched is dropped for the constant velocity.
+// off: a guess this unlike the last motion matched is dropped for the constant velocity.
 std::optional<Pose2> ScanMatcher::plausible(const std::optional<Pose2>& guess) const {
   if (!guess) return guess;
-  const Pose2 change = last_increment_.inverse() * *guess;
+  const Pose2 change = last_taken_.inverse() * *guess;
   if (change.distance() > settings_.guess_jump || std::abs(change.theta) > settings_.guess_turn) return std::nullopt;
   return guess;
 }
@@ -328,9 +337,9 @@ MatchResult ScanMatcher::best_alignment(const std::vector<Eigen::Vector2d>& poin
   const Pose2 guess = motion_guess.value_or(last_increment_);
   const Pose2 prior = pose_ * guess;
   MatchResult best = align_to(map_->reference(), points, pose_ * guess, prior);
-  const bool plausible = best.quality == MatchQuality::Ok &&
+  const bool converged = best.quality == MatchQuality::Ok &&
                          (typical_residual_ == 0 || best.residual < settings_.suspicious_residual * typical_residual_);
-  if (plausible) return best;
+  if (converged) return best;
   constexpr double kDegree = M_PI / 180;
   std::vector<Pose2> motions = {last_increment_, Pose2{}};
   for (const double turn : {-30.0, -20.0, -10.0, 10.0, 20.0, 30.0})
@@ -346,8 +355,8 @@ MatchResult ScanMatcher::best_alignment(const std::vector<Eigen::Vector2d>& poin
 }
 
 void ScanMatcher::add_keyframe(std::vector<Eigen::Vector2d> points) {
-  keyframe_ = std::make_unique<Keyframe>(pose_, std::move(points), settings_);
-  map_->insert(*keyframe_);
+  map_->insert(Keyframe(pose_, std::move(points), settings_));
+  keyframe_pose_ = pose_;
 }
 
 }  // namespace scanbus::scan_matcher
@@ -379,6 +388,8 @@ MatcherSettings matcher_settings_from_config(const Config& section) {
   s.guess_turn = section.number("guess_turn", s.guess_turn / kDegree, 0, 360) * kDegree;
   s.robust_scale = section.number("robust_scale", s.robust_scale, 0, 10);
   s.map_resolution = section.number("map_resolution", s.map_resolution, 0, 10);
+  if (s.map_resolution > 0 && s.map_resolution < 0.001)
+    section.fail("map_resolution", "must be 0 (every point) or at least 0.001 m");
   s.lost_after = static_cast<int>(section.integer("lost_after", s.lost_after, 1, 100000));
   s.min_inlier_ratio = section.number("min_inlier_ratio", s.min_inlier_ratio, 0, 1);
   if (s.range_max <= s.range_min) section.fail("range_max", "must be larger than range_min");

@@ -214,24 +214,33 @@ TEST(ScanToMap, ALostMatcherStartsItsMapAgain) {
     const MatchResult result = matcher.add_scan(corridor.scan(elsewhere, {}, random));
     if (result.quality != MatchQuality::Ok) ++failed;
     if (result.quality != MatchQuality::Ok && result.keyframe && restarted_at < 0) restarted_at = i;
-    if (restarted_at >= 0 && i > restarted_at + 1) EXPECT_EQ(result.quality, MatchQuality::Ok) << "scan " << i;
+    if (restarted_at >= 0 && i > restarted_at + 1) {
+      EXPECT_EQ(result.quality, MatchQuality::Ok) << "scan " << i;
+    }
   }
   EXPECT_EQ(restarted_at, 4);  // the fifth failure in a row
   EXPECT_EQ(failed, 5);
 }
 
-TEST(PlIcp, BadRangesAreDroppedAndTooFewPointsHoldThePose) {
+TEST(PlIcp, BadRangesAreDroppedAndTooFewPointsStartNoMap) {
   ScanMatcher matcher;
   scanbus::sensor::LaserScan scan;
   scan.angle_min = -M_PI / 2;
   scan.angle_increment = M_PI / 4;
   scan.ranges = {1.0f, std::numeric_limits<float>::quiet_NaN(), 0.0f, std::numeric_limits<float>::infinity(), 45.0f};
   EXPECT_EQ(matcher.points_of(scan).size(), 1u);  // NaN, zero, inf and beyond 30 m dropped
-  matcher.add_scan(scan);
-  const MatchResult result = matcher.add_scan(scan);
-  EXPECT_EQ(result.quality, MatchQuality::TooFewCorrespondences);
-  EXPECT_EQ(result.pose.x, 0.0);
-  EXPECT_EQ(result.pose.theta, 0.0);
+  for (int i = 0; i < 2; ++i) {
+    const MatchResult result = matcher.add_scan(scan);
+    EXPECT_EQ(result.quality, MatchQuality::NoReference);
+    EXPECT_FALSE(result.keyframe);  // one point is no map to match against
+    EXPECT_EQ(result.pose.x, 0.0);
+    EXPECT_EQ(result.pose.theta, 0.0);
+  }
+  // The first usable scan starts the map; the next one matches against it.
+  const LaserWorld room = LaserWorld::room();
+  std::mt19937 random(2);
+  EXPECT_TRUE(matcher.add_scan(room.scan({0, 0, 0}, {}, random)).keyframe);
+  EXPECT_EQ(matcher.add_scan(room.scan({0.05, 0, 0}, {}, random)).quality, MatchQuality::Ok);
 }
 
 TEST(LaserLog, ReadsFlaserAndRobotLaser) {

@@ -1,14 +1,14 @@
 // PL-ICP (Censi, "An ICP variant using a point-to-line metric", ICRA 2008): each point of
 // the new scan is matched to the line through its nearest reference point; the
-// point-to-line errors are trimmed and minimised by Gauss-Newton. Unlike Censi's segment
-// between two neighbouring points, the line is fitted to neighbours on each side spanning
-// at least min_line_length: the two-point segment's direction drowns in range noise. The
-// reference is a keyframe (or the latest few), renewed after enough motion.
+// point-to-line errors are weighted by a robust kernel and minimised by Gauss-Newton. Unlike
+// Censi's segment between two neighbouring points, the line is fitted to neighbours on each
+// side spanning at least min_line_length: the two-point segment's direction drowns in range
+// noise. The reference is a local map of the latest keyframes (scan-to-map matching: pairwise
+// matches drift in heading), each map point keeping the line of the scan it came from.
 #pragma once
 
 #include <Eigen/Core>
 
-#include <deque>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -44,9 +44,10 @@ struct MatcherSettings {
   double prior_weight = 1.0;            // pull towards the initial guess, per m (and rad) squared,
                                         // against one per correspondence: keeps unconstrained
                                         // directions (a corridor's length) at the prediction
-  double guess_jump = 0.3;              // m and rad: a motion guess (odometry) this far from the
-  double guess_turn = 20 * M_PI / 180;  // last matched increment is the odometry jumping: more than
-                                        // an indoor robot's motion changes between two scans
+  double guess_jump = 0.3;              // m, and rad: a motion guess (odometry) this far from, or
+  double guess_turn = 20 * M_PI / 180;  // turned this much from, the last taken increment is the
+                                        // odometry jumping: more than an indoor robot's motion
+                                        // changes between two scans
   double suspicious_residual = 2.0;     // a residual this many times the recent ones makes the
                                         // matcher try other initial guesses
   double inlier_distance = 0.05;        // m: a point this close to its line counts as explained
@@ -69,12 +70,12 @@ struct MatchResult {
   MatchQuality quality = MatchQuality::NoReference;
   Pose2 pose;                                            // cumulative, since the first scan
   Pose2 increment;                                       // since the previous scan
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  // of the match against the keyframe (x, y, theta)
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  // of the match against the map (x, y, theta)
   int iterations = 0;
   size_t correspondences = 0;
   double residual = 0;    // m, mean |point-to-line error| of the kept correspondences
   size_t inliers = 0;     // correspondences within inlier_distance
-  bool keyframe = false;  // this scan is the new reference
+  bool keyframe = false;  // this scan became a keyframe of the map
 };
 
 class ScanMatcher {
@@ -120,10 +121,11 @@ class ScanMatcher {
   void add_keyframe(std::vector<Eigen::Vector2d> points);
 
   MatcherSettings settings_;
-  std::unique_ptr<Keyframe> keyframe_;  // the latest
+  std::optional<Pose2> keyframe_pose_;  // of the latest keyframe; none before a usable scan
   std::unique_ptr<LocalMap> map_;       // in the first scan's frame
   Pose2 pose_;
-  Pose2 last_increment_;
+  Pose2 last_increment_;             // the prediction: the last taken increment, zero after a failure
+  Pose2 last_taken_;                 // the last taken increment, which a guess is judged against
   double typical_residual_ = 0;      // m, running mean of accepted matches' residuals
   int failures_ = 0;                 // failed matches in a row
   double typical_inlier_share_ = 0;  // running mean of accepted matches' inliers per point
