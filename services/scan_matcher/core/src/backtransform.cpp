@@ -47,11 +47,14 @@ std::vector<PairCheck> check_log(const MatcherSettings& settings, const std::vec
   std::vector<PairCheck> checks;
   const auto tracked = track_log(matcher, records, odometry_guess, progress);
   const auto& poses = tracked.trajectory.poses;
+  std::vector<Eigen::Vector2d> scan_n =
+      records.empty() ? std::vector<Eigen::Vector2d>{} : matcher.points_of(records[0].scan);
   for (size_t row = 0; row + 1 < records.size(); ++row) {
-    const Pose2 increment = poses[row].inverse() * poses[row + 1];
-    checks.push_back(check_pair(matcher.points_of(records[row].scan), matcher.points_of(records[row + 1].scan),
-                                increment, tracked.qualities[row + 1], max_median));
+    std::vector<Eigen::Vector2d> scan_n1 = matcher.points_of(records[row + 1].scan);  // each scan's points once
+    checks.push_back(
+        check_pair(scan_n, scan_n1, poses[row].inverse() * poses[row + 1], tracked.qualities[row + 1], max_median));
     checks.back().row = row;
+    scan_n = std::move(scan_n1);
   }
   return checks;
 }
