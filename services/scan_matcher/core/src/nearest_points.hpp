@@ -27,6 +27,19 @@ class NearestPoints {
     tree_.knnSearch(query.data(), 1, &index, &distance_squared);
     return {index, distance_squared};
   }
+  // The two points nearest to `query` closer than sqrt(bound_squared): the nearest's index (npos
+  // if none) and both squared distances (bound_squared where there is none). The second tells
+  // how far the query may move before another point could be nearer.
+  static constexpr size_t npos = static_cast<size_t>(-1);
+  struct TwoFound {
+    size_t index;
+    double distance_squared, second_squared;
+  };
+  TwoFound nearest_two(const Eigen::Vector2d& query, double bound_squared) const {
+    WithinBound found{npos, bound_squared, bound_squared};
+    tree_.findNeighbors(found, query.data(), nanoflann::SearchParams());
+    return {found.index, found.first, found.second};
+  }
   const std::vector<Eigen::Vector2d>& points() const { return set_.points; }
 
  private:
@@ -37,6 +50,24 @@ class NearestPoints {
     template <class Box>
     bool kdtree_get_bbox(Box&) const {
       return false;
+    }
+  };
+  // nanoflann's result-set interface for the two nearest within a bound: its KNNResultSet starts
+  // unbounded, this one at the bound, and the search skips every branch beyond it.
+  struct WithinBound {
+    size_t index;
+    double first, second;  // squared distances
+    double worstDist() const { return second; }
+    bool full() const { return index != npos; }
+    bool addPoint(double distance_squared, unsigned int point) {
+      if (distance_squared < first) {
+        second = first;
+        first = distance_squared;
+        index = point;
+      } else if (distance_squared < second) {
+        second = distance_squared;
+      }
+      return true;
     }
   };
   using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointSet>, PointSet, 2>;
