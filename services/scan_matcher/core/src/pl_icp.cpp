@@ -15,13 +15,6 @@ namespace scanbus::scan_matcher {
 
 namespace {
 
-// A scan point's two nearest reference points when last searched, and how far it moved since.
-struct Neighbourhood {
-  size_t index = NearestPoints::npos;  // the nearest
-  double first = 0, second = 0;        // m, the two nearest's distances (the bound for none)
-  Eigen::Vector2d searched_at = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
-};
-
 struct Correspondence {
   size_t point;
   Eigen::Vector2d normal;
@@ -107,7 +100,7 @@ class ScanMatcher::LocalMap {
     const std::vector<Eigen::Vector2d> points = carried_back(keyframe.points, keyframe.pose);
     const Eigen::Matrix2d rotation = Eigen::Rotation2Dd(keyframe.pose.theta).toRotationMatrix();
     for (size_t i = 0; i < points.size(); ++i) {
-      if (!cells_.insert(cell_of(points[i])).second) continue;
+      if (!new_cell(points[i])) continue;
       LocalLine line = keyframe.lines[i];
       line.centre = rotation * line.centre + Eigen::Vector2d(keyframe.pose.x, keyframe.pose.y);
       line.normal = rotation * line.normal;
@@ -134,29 +127,28 @@ class ScanMatcher::LocalMap {
     long serial;  // of the keyframe that brought it
   };
 
-  // A resolution of 0 keeps every point (each its own cell).
-  uint64_t cell_of(const Eigen::Vector2d& point) {
-    if (resolution_ <= 0) return next_cell_++;
+  // A resolution of 0 keeps every point.
+  bool new_cell(const Eigen::Vector2d& point) { return resolution_ <= 0 || cells_.insert(cell_of(point)).second; }
+  uint64_t cell_of(const Eigen::Vector2d& point) const {
     const auto index = [&](double value) {
       return static_cast<uint64_t>(static_cast<int64_t>(std::floor(value / resolution_)) & 0xffffffff);
     };
     return index(point.x()) << 32 | index(point.y());
   }
 
+  // The entries are in the order their keyframes came: the expired ones lead.
   void expire(long oldest) {
-    const auto old = [&](const Entry& entry) { return entry.serial < oldest; };
-    if (std::none_of(entries_.begin(), entries_.end(), old)) return;
-    entries_.erase(std::remove_if(entries_.begin(), entries_.end(), old), entries_.end());
-    cells_.clear();
-    next_cell_ = 0;
-    for (const Entry& entry : entries_) cells_.insert(cell_of(entry.point));
+    const auto kept =
+        std::find_if(entries_.begin(), entries_.end(), [&](const Entry& entry) { return entry.serial >= oldest; });
+    if (resolution_ > 0)  // each cell holds one entry: the expired entries' cells are free again
+      for (auto entry = entries_.begin(); entry != kept; ++entry) cells_.erase(cell_of(entry->point));
+    entries_.erase(entries_.begin(), kept);
   }
 
   const int keyframes_;
   const double resolution_;
   std::vector<Entry> entries_;
-  std::unordered_set<uint64_t> cells_;
-  uint64_t next_cell_ = 0;
+  std::unordered_set<uint64_t> cells_;  // those holding an entry
   long serial_ = 0;
   std::unique_ptr<Reference> reference_;
 };
@@ -191,30 +183,15 @@ MatchResult ScanMatcher::align_to(const Reference& reference, const std::vector<
   Eigen::Vector3d x(guess.x, guess.y, guess.theta);
   std::vector<Correspondence> matches;
   Eigen::Matrix3d hessian = Eigen::Matrix3d::Zero();
-  const double max_distance_squared = settings_.max_correspondence * settings_.max_correspondence;
-  // A point's nearest reference point stays the nearest while it moves less than half the gap
-  // between its two nearest (triangle inequality): after the first steps the pose moves
-  // millimetres, and most points need no new search (half the time went into searches).
-  // Searched a little past max_correspondence, so that a point with nothing near may move too.
-  const double search_bound = 1.25 * settings_.max_correspondence;
-  std::vector<Neighbourhood> near(scan.size());
+  std::vector<MovingQuery> nearest(scan.size());
   for (result.iterations = 1; result.iterations <= settings_.max_iterations; ++result.iterations) {
     const Eigen::Matrix2d rotation = Eigen::Rotation2Dd(x[2]).toRotationMatrix();
     matches.clear();
     for (size_t i = 0; i < scan.size(); ++i) {
       const Eigen::Vector2d q = rotation * scan[i] + x.head<2>();
-      Neighbourhood& around = near[i];
-      const double moved = (q - around.searched_at).norm();
-      const bool still = around.index == NearestPoints::npos ? moved < search_bound - settings_.max_correspondence
-                                                             : 2 * moved < around.second - around.first;
-      if (!still) {
-        const auto found = reference.search.nearest_two(q, search_bound * search_bound);
-        around = {found.index, std::sqrt(found.distance_squared), std::sqrt(found.second_squared), q};
-      }
-      if (around.index == NearestPoints::npos) continue;
-      const double distance_squared = (reference.search.points()[around.index] - q).squaredNorm();
-      if (distance_squared > max_distance_squared) continue;
-      const LocalLine& line = reference.lines[around.index];
+      const size_t found = nearest[i].nearest(reference.search, q, settings_.max_correspondence).index;
+      if (found == NearestPoints::npos) continue;
+      const LocalLine& line = reference.lines[found];
       if (!line.valid) continue;
       matches.push_back({i, line.normal, line.normal.dot(q - line.centre)});
     }
@@ -367,7 +344,14 @@ MatchResult ScanMatcher::best_alignment(const std::vector<Eigen::Vector2d>& poin
   std::vector<Pose2> motions = {last_increment_, Pose2{}};
   for (const double turn : {-30.0, -20.0, -10.0, 10.0, 20.0, 30.0})
     motions.push_back({guess.x, guess.y, Pose2::normalize(guess.theta + turn * kDegree)});
-  for (const Pose2& motion : motions) {
+  // The same start gives the same match: without odometry the guess is the last increment,
+  // after a failure that is no motion.
+  const auto same = [](const Pose2& a, const Pose2& b) { return a.x == b.x && a.y == b.y && a.theta == b.theta; };
+  for (size_t m = 0; m < motions.size(); ++m) {
+    const Pose2& motion = motions[m];
+    if (same(motion, guess) || std::any_of(motions.begin(), motions.begin() + static_cast<long>(m),
+                                           [&](const Pose2& earlier) { return same(earlier, motion); }))
+      continue;
     MatchResult result = align_to(map_->reference(), points, pose_ * motion, prior);
     const bool better =
         result.quality == MatchQuality::Ok && (best.quality != MatchQuality::Ok || result.inliers > best.inliers ||
