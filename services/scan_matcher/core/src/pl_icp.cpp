@@ -170,11 +170,11 @@ std::vector<Eigen::Vector2d> ScanMatcher::points_of(const sensor::LaserScan& sca
 
 MatchResult ScanMatcher::align(const std::vector<Eigen::Vector2d>& reference, const std::vector<Eigen::Vector2d>& scan,
                                const Pose2& guess) const {
-  return align_to(reference_of(reference), scan, guess, guess);
+  return align_to(reference_of(reference), scan, guess, {guess, settings_.prior_weight});
 }
 
 MatchResult ScanMatcher::align_to(const Reference& reference, const std::vector<Eigen::Vector2d>& scan,
-                                  const Pose2& guess, const Pose2& prior) const {
+                                  const Pose2& guess, const Prior& prior) const {
   MatchResult result;
   if (reference.search.points().size() < 2) {
     result.quality = MatchQuality::TooFewCorrespondences;
@@ -225,10 +225,10 @@ MatchResult ScanMatcher::align_to(const Reference& reference, const std::vector<
     }
     // A weak pull towards the prior: along a corridor, where the walls leave the motion
     // unconstrained, the pose keeps the prediction instead of sliding.
-    const Eigen::Vector3d from_guess(x[0] - prior.x, x[1] - prior.y, Pose2::normalize(x[2] - prior.theta));
-    const Eigen::Vector3d step = (hessian + settings_.prior_weight * Eigen::Matrix3d::Identity())
-                                     .ldlt()
-                                     .solve(-(gradient + settings_.prior_weight * from_guess));
+    const Pose2& predicted = prior.pose;
+    const Eigen::Vector3d from_guess(x[0] - predicted.x, x[1] - predicted.y, Pose2::normalize(x[2] - predicted.theta));
+    const Eigen::Vector3d step =
+        (hessian + prior.weight * Eigen::Matrix3d::Identity()).ldlt().solve(-(gradient + prior.weight * from_guess));
     if (!step.allFinite()) {
       result.quality = MatchQuality::Diverged;
       break;
@@ -335,7 +335,7 @@ std::optional<Pose2> ScanMatcher::plausible(const std::optional<Pose2>& guess) c
 MatchResult ScanMatcher::best_alignment(const std::vector<Eigen::Vector2d>& points,
                                         const std::optional<Pose2>& motion_guess) const {
   const Pose2 guess = motion_guess.value_or(last_increment_);
-  const Pose2 prior = pose_ * guess;
+  const Prior prior{pose_ * guess, motion_guess ? settings_.guess_weight : settings_.prior_weight};
   MatchResult best = align_to(map_->reference(), points, pose_ * guess, prior);
   const bool converged = best.quality == MatchQuality::Ok &&
                          (typical_residual_ == 0 || best.residual < settings_.suspicious_residual * typical_residual_);
@@ -389,6 +389,7 @@ MatcherSettings matcher_settings_from_config(const Config& section) {
   s.keyframe_angle = section.number("keyframe_angle", s.keyframe_angle / kDegree, 0, 180) * kDegree;
   s.inlier_distance = section.number("inlier_distance", s.inlier_distance, 0.001, 10);
   s.prior_weight = section.number("prior_weight", s.prior_weight, 0, 1e6);
+  s.guess_weight = section.number("guess_weight", s.guess_weight, 0, 1e6);
   s.suspicious_residual = section.number("suspicious_residual", s.suspicious_residual, 1, 1000);
   s.map_keyframes = static_cast<int>(section.integer("map_keyframes", s.map_keyframes, 1, 100000));
   s.guess_jump = section.number("guess_jump", s.guess_jump, 0, 1000);

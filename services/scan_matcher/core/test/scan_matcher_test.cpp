@@ -198,6 +198,27 @@ TEST(ScanToMap, OdometryThatJumpsIsNotFollowed) {
   }
 }
 
+// The caller's guess (odometry) pulls with guess_weight, the constant-velocity prediction with
+// prior_weight: a guess 4 cm off, weighed heavily, holds the match there; weighed zero, the
+// scan decides, however heavy the constant-velocity prior.
+TEST(ScanToMap, AGuessPullsWithItsOwnWeight) {
+  const LaserWorld room = LaserWorld::room();
+  const Pose2 start{-1.5, -0.5, 0.2}, step{0.05, 0, 1 * M_PI / 180}, guess{0.09, 0, 1 * M_PI / 180};
+  const auto matched_x = [&](double guess_weight, double prior_weight) {
+    MatcherSettings settings;
+    settings.guess_weight = guess_weight;
+    settings.prior_weight = prior_weight;
+    ScanMatcher matcher(settings);
+    std::mt19937 random(13);
+    matcher.add_scan(room.scan(start, {}, random));
+    const MatchResult result = matcher.add_scan(room.scan(start * step, {}, random), guess);
+    EXPECT_EQ(result.quality, MatchQuality::Ok);
+    return result.increment.x;
+  };
+  EXPECT_NEAR(matched_x(1e6, 0), guess.x, 0.005);
+  EXPECT_NEAR(matched_x(0, 1e6), step.x, 0.01);
+}
+
 // Scans of another place entirely (the sensor carried elsewhere): the matches fail, and
 // after lost_after of them the map starts again from the scan, so matching goes on.
 TEST(ScanToMap, ALostMatcherStartsItsMapAgain) {

@@ -41,9 +41,12 @@ struct MatcherSettings {
   double min_inlier_ratio = 0.5;        // a match explaining fewer points than this share of what the
                                         // recent matches explained is a wrong minimum: not taken
   int lost_after = 20;                  // this many failed matches in a row start the map again
-  double prior_weight = 1.0;            // pull towards the initial guess, per m (and rad) squared,
+  double prior_weight = 1.0;            // pull towards the prediction, per m (and rad) squared,
                                         // against one per correspondence: keeps unconstrained
-                                        // directions (a corridor's length) at the prediction
+                                        // directions (a corridor's length) at the prediction.
+                                        // This one for constant velocity (no guess given)
+  double guess_weight = 1.0;            // the same when the caller gave a motion guess (odometry,
+                                        // the IMU's turn)
   double guess_jump = 0.3;              // m, and rad: a motion guess (odometry) this far from, or
   double guess_turn = 20 * M_PI / 180;  // turned this much from, the last taken increment is the
                                         // odometry jumping: more than an indoor robot's motion
@@ -106,9 +109,14 @@ class ScanMatcher {
   struct Reference;
   class LocalMap;
   Reference reference_of(const std::vector<Eigen::Vector2d>& points) const;
-  // Gauss-Newton from `guess`, weakly pulled towards `prior` (both in the reference frame).
+  // Where the motion says the scan was taken (in the reference frame), and how firmly.
+  struct Prior {
+    Pose2 pose;
+    double weight;
+  };
+  // Gauss-Newton from `guess`, weakly pulled towards the prior.
   MatchResult align_to(const Reference& reference, const std::vector<Eigen::Vector2d>& scan, const Pose2& guess,
-                       const Pose2& prior) const;
+                       const Prior& prior) const;
   double cauchy_weight(double error) const {
     if (settings_.robust_scale <= 0) return 1;
     const double ratio = error / settings_.robust_scale;
