@@ -73,13 +73,15 @@ class NearestPoints {
 // them (the nearest of them nearer than the search radius less the distance moved: no other
 // point can be, by the triangle inequality) they give the same answer as a search would.
 // After the first steps the pose moves millimetres and most queries need no search (half the
-// matcher's time went into searches before).
+// matcher's time went into searches before). The points it keeps are indices into one map:
+// a MovingQuery serves one map only (align_to makes new ones for each alignment).
 class MovingQuery {
  public:
   // The nearest point to `query` if it is within `max_distance` (index npos if none).
   NearestPoints::Found nearest(const NearestPoints& map, const Eigen::Vector2d& query, double max_distance) {
     NearestPoints::Found best = among_nearby(map, query);
-    const double clear = radius_ - (query - searched_at_).norm();
+    // Shrunk by a part in 1e12: the square roots' rounding never decides a near tie.
+    const double clear = (radius_ - (query - searched_at_).norm()) * (1 - 1e-12);
     const bool sure = best.distance_squared < clear * clear && clear > 0;
     const bool none_near = clear > max_distance;  // nothing else within max_distance
     if (!sure && !none_near) {

@@ -45,8 +45,9 @@ struct MatcherSettings {
                                         // against one per correspondence: keeps unconstrained
                                         // directions (a corridor's length) at the prediction.
                                         // This one for constant velocity (no guess given)
-  double guess_weight = 1.0;            // the same when the caller gave a motion guess (odometry,
-                                        // the IMU's turn)
+  double guess_weight = 1.0;            // the same when the caller gave a motion guess to add_scan
+                                        // (odometry; the node's IMU guess is the IMU's turn with
+                                        // the last increment's translation, all pulled with this)
   double guess_jump = 0.3;              // m, and rad: a motion guess (odometry) this far from, or
   double guess_turn = 20 * M_PI / 180;  // turned this much from, the last taken increment is the
                                         // odometry jumping: more than an indoor robot's motion
@@ -100,7 +101,7 @@ class ScanMatcher {
   std::vector<Eigen::Vector2d> points_of(const sensor::LaserScan& scan) const;
 
   // One PL-ICP alignment of `scan` to `reference` from `guess` (the scan's pose in the
-  // reference frame), without a map.
+  // reference frame), without a map, pulled towards the guess with prior_weight.
   MatchResult align(const std::vector<Eigen::Vector2d>& reference, const std::vector<Eigen::Vector2d>& scan,
                     const Pose2& guess) const;
 
