@@ -1,7 +1,7 @@
 // PL-ICP scan matching per scan (ScanMatcher::add_scan: range gating, correspondence search,
 // Gauss-Newton, the local map) on one core. Target (issues 5 and 20): 2,000 scans per second
-// for 361-ray scans, with the local map. Two inputs: a synthetic room flight (always there) and the real MIT CSAIL
-// log of the Freiburg benchmark (skipped when ../shared is absent).
+// for 361-ray scans, with the local map. Two inputs: a synthetic room flight (always there)
+// and the real MIT CSAIL log of the Freiburg benchmark (skipped when ../shared is absent).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>

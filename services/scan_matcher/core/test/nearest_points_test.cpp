@@ -22,7 +22,7 @@ NearestPoints::Found brute_force(const std::vector<Eigen::Vector2d>& points, con
 
 TEST(MovingQuery, AnswersAsASearchOfEveryPointWould) {
   std::mt19937 random(7);
-  std::uniform_real_distribution<double> place(-5, 5), along(0, 4);
+  std::uniform_real_distribution<double> place(-5, 5);
   std::vector<Eigen::Vector2d> points;
   // Walls (points 5 cm apart, as the map keeps them) and scattered clutter.
   for (double s = 0; s < 4; s += 0.05) {
