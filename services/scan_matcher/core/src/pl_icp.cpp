@@ -7,8 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <deque>
-#include <limits>
 #include <unordered_set>
 
 namespace scanbus::scan_matcher {
