@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <tuple>
 
 namespace scanbus::room_measurement {
 
@@ -58,16 +59,35 @@ void adjust(const AdjustmentSettings& settings, const std::vector<Eigen::Vector3
   // The walls' points within the adjustment's band, without those near the floor and
   // the ceiling: they lie on other planes and would pull the device terms (a wall's plane is
   // the model). Without a floor or ceiling, 10 cm of the wall's own height range goes at that end.
+  // A wall's points lie between its corners, and those of every wall refined from the same
+  // candidate line: one wall of the room broken by a chimney breast or a T's stem standing in
+  // front of it. Not along the candidate's whole extent: across the gap between its pieces the
+  // breast's or the stem's sides cross the line, and their points bent the device terms (a
+  // 2.6 cm range bias fitted to a T room scanned by an ideal device).
+  const size_t count = result.walls.size();
+  std::vector<std::pair<double, double>> segments;
+  for (size_t i = 0; i < count; ++i) {
+    const WallLine& line = result.walls[i].line;
+    const double from = line.direction().dot(result.corners[i]);
+    const double to = line.direction().dot(result.corners[(i + 1) % count]);
+    segments.emplace_back(std::max(line.start, std::min(from, to)), std::min(line.end, std::max(from, to)));
+  }
   std::vector<WallLine> lines;
-  for (const auto& wall : result.walls) {
-    WallLine line = wall.line;
-    if (!line.inferred)
-      line.inliers = points_on_wall(line, points, settings.band, result.floor_z.value_or(line.z_low) + 0.1,
-                                    result.ceiling_z.value_or(line.z_high) - 0.1);
+  for (size_t i = 0; i < count; ++i) {
+    WallLine line = result.walls[i].line;
+    line.inliers.clear();
+    for (size_t j = 0; j < count && !line.inferred; ++j) {
+      if (result.walls[j].candidate != result.walls[i].candidate) continue;
+      WallLine piece = line;
+      std::tie(piece.start, piece.end) = segments[j];
+      const auto near = points_on_wall(piece, points, settings.band, result.floor_z.value_or(line.z_low) + 0.1,
+                                       result.ceiling_z.value_or(line.z_high) - 0.1);
+      line.inliers.insert(line.inliers.end(), near.begin(), near.end());
+    }
     lines.push_back(std::move(line));
   }
   const AdjustedWalls adjusted = adjust_walls(lines, settings);
-  for (size_t i = 0; i < result.walls.size(); ++i) {
+  for (size_t i = 0; i < count; ++i) {
     result.walls[i].line.normal = adjusted.normals[i];
     result.walls[i].line.offset = adjusted.offsets[i];
     result.walls[i].length = adjusted.lengths[i];
@@ -493,6 +513,7 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
     MeasuredWall wall;
     wall.line = candidate.inferred ? candidate : refine_wall(candidate, valid, 2 * settings.ransac.distance);
     wall.points = wall.line.inliers.size();
+    wall.candidate = index;
     result.walls.push_back(std::move(wall));
   }
   place_hidden_walls(valid, settings, result);

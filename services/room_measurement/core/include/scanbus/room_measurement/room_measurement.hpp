@@ -59,6 +59,8 @@ const char* status_name(RoomStatus status);
 struct MeasuredWall {
   WallLine line;
   size_t points = 0;              // inliers of the final fit
+  size_t candidate = 0;           // the candidate line it was refined from: walls sharing one are one
+                                  // wall of the room broken by a chimney breast or a T's stem
   double length = 0;              // m, corner to corner
   double length_sigma = 0;        // m, one sigma (the wall adjustment's, else the offsets' standard errors)
   std::vector<Opening> openings;  // doors and windows seen through, along the wall from corners[i]
