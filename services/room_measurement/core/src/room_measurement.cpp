@@ -35,17 +35,28 @@ void measure_lengths(std::vector<MeasuredWall>& walls) {
   }
 }
 
-// Points whose rays meet the wall's line within its extent (kept `band` from its ends, where
-// the neighbouring wall's points come near) and between `z_low` and `z_high`, lying within
-// `band` of the line. Chosen by where the ray meets the line, not by the point: range noise
+// How far from a wall's line its points are taken: `least`, or `noise_sigmas` of the range
+// noise at the point's range where that is wider.
+struct Band {
+  double least = 0;
+  double noise_sigmas = 0, range_noise = 0, range_noise_per_metre = 0;
+  double at(double range) const {
+    return std::max(least, noise_sigmas * (range_noise + range_noise_per_metre * range));
+  }
+};
+
+// Points whose rays meet the wall's line within its extent (kept `band.least` from its ends,
+// where the neighbouring wall's points come near) and between `z_low` and `z_high`, lying within
+// the band of the line. Chosen by where the ray meets the line, not by the point: range noise
 // moves a point along its ray, and a cut on the noisy position keeps more short ranges there.
 std::vector<Eigen::Vector3f> points_on_wall(const WallLine& wall, const std::vector<Eigen::Vector3f>& points,
-                                            double band, double z_low = -1e9, double z_high = 1e9) {
+                                            const Band& within, double z_low = -1e9, double z_high = 1e9) {
+  const double band = within.least;
   std::vector<Eigen::Vector3f> near;
   for (const auto& p : points) {
     const Eigen::Vector2d xy = p.head<2>().cast<double>();
     const double distance = wall.normal.dot(xy);
-    if (std::abs(distance - wall.offset) >= band) continue;
+    if (std::abs(distance - wall.offset) >= within.at(p.norm())) continue;
     const Eigen::Vector3d crossing = wall.on_ray(p.cast<double>());
     const double along = wall.direction().dot(crossing.head<2>());
     if (along > wall.start + band && along < wall.end - band && crossing.z() >= z_low && crossing.z() <= z_high)
@@ -72,6 +83,7 @@ void adjust(const AdjustmentSettings& settings, const std::vector<Eigen::Vector3
     const double to = line.direction().dot(result.corners[(i + 1) % count]);
     segments.emplace_back(std::max(line.start, std::min(from, to)), std::min(line.end, std::max(from, to)));
   }
+  const Band band{settings.band, settings.band_noise_sigmas, settings.range_noise, settings.range_noise_per_metre};
   std::vector<WallLine> lines;
   for (size_t i = 0; i < count; ++i) {
     WallLine line = result.walls[i].line;
@@ -80,7 +92,7 @@ void adjust(const AdjustmentSettings& settings, const std::vector<Eigen::Vector3
       if (result.walls[j].candidate != result.walls[i].candidate) continue;
       WallLine piece = line;
       std::tie(piece.start, piece.end) = segments[j];
-      const auto near = points_on_wall(piece, points, settings.band, result.floor_z.value_or(line.z_low) + 0.1,
+      const auto near = points_on_wall(piece, points, band, result.floor_z.value_or(line.z_low) + 0.1,
                                        result.ceiling_z.value_or(line.z_high) - 0.1);
       line.inliers.insert(line.inliers.end(), near.begin(), near.end());
     }
@@ -314,7 +326,7 @@ WallLine refine_wall(const WallLine& wall, const std::vector<Eigen::Vector3f>& p
   const double max_turn = std::cos(5 * M_PI / 180);
   WallLine fitted = wall;
   for (int round = 0; round < 2; ++round) {
-    std::vector<Eigen::Vector3f> near = points_on_wall(fitted, points, band);
+    std::vector<Eigen::Vector3f> near = points_on_wall(fitted, points, Band{band});
     if (near.size() < 10) break;
     const WallLine refit = fit_wall(std::move(near));
     if (std::abs(refit.normal.dot(wall.normal)) < max_turn) break;
@@ -629,6 +641,10 @@ RoomSettings room_settings_from_config(const Config& section) {
   s.adjustment.pitch_error_prior_deg =
       adjustment.number("pitch_error_prior", s.adjustment.pitch_error_prior_deg, 1e-3, 45);
   s.adjustment.band = adjustment.number("band", s.adjustment.band, 0.001, 1);
+  s.adjustment.band_noise_sigmas = adjustment.number("band_noise_sigmas", s.adjustment.band_noise_sigmas, 0, 10);
+  s.adjustment.range_noise = adjustment.number("range_noise", s.adjustment.range_noise, 0, 1);
+  s.adjustment.range_noise_per_metre =
+      adjustment.number("range_noise_per_metre", s.adjustment.range_noise_per_metre, 0, 1);
   s.adjustment.yaw_error_prior_deg = adjustment.number("yaw_error_prior", s.adjustment.yaw_error_prior_deg, 1e-3, 45);
 
   s.adjustment.bootstrap = static_cast<int>(adjustment.integer("bootstrap", s.adjustment.bootstrap, 0, 100000));

@@ -187,6 +187,11 @@ struct Spread {
     for (size_t i = 0; i < lengths.size(); ++i) lengths[i] += other.lengths[i], corners[i] += other.corners[i];
     area += other.area;
   }
+  void take_larger(const Spread& other) {
+    for (size_t i = 0; i < lengths.size(); ++i)
+      lengths[i] = std::max(lengths[i], other.lengths[i]), corners[i] = std::max(corners[i], other.corners[i]);
+    area = std::max(area, other.area);
+  }
 };
 
 // The outlines' variance about their mean, times `scale`.
@@ -329,7 +334,7 @@ AdjustedWalls adjust_walls(const std::vector<WallLine>& walls, const AdjustmentS
   if (settings.bootstrap <= 0 || bins < 2) return result;
 
   Spread spread = bootstrap_spread(system, walls, settings.bootstrap);
-  if (settings.estimate_device && seen >= 3) spread.add(wall_jackknife_spread(system, walls, x));
+  if (settings.estimate_device && seen >= 3) spread.take_larger(wall_jackknife_spread(system, walls, x));
   spread.add(prior_spread(system, walls, x, settings));
   for (size_t i = 0; i < count; ++i) {
     result.length_sigmas[i] = std::sqrt(spread.lengths[i]);

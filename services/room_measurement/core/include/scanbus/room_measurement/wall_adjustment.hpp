@@ -10,9 +10,10 @@
 // point's ray follows from its position: the scanner is at the origin and its pitch counts
 // from the vertical (the thesis's eq. 3.10-3.12).
 //
-// Uncertainty, three parts added: a bootstrap over pitch bins (whole revolutions, whose
-// errors are shared) for noise and neighbouring points' correlation; a jackknife over the
-// walls for how far the device terms rest on a few of them; each term the data cannot pin
+// Uncertainty: a bootstrap over pitch bins (whole revolutions, whose errors are shared) for
+// noise and neighbouring points' correlation, or a jackknife over the walls for how far the
+// device terms rest on a few of them, whichever is larger (both re-estimate the device terms
+// from noisy points: added, that noise counted twice); plus each term the data cannot pin
 // down (an inferred wall's placement; the device terms when they are not estimated) moved by
 // its sigma and propagated to the walls.
 #pragma once
@@ -27,11 +28,18 @@ namespace scanbus::room_measurement {
 
 struct AdjustmentSettings {
   bool enabled = true;
-  bool estimate_device = true;  // estimate the device terms (off: hold them at zero, their priors
-                                // added to the sigmas; docs/room_evaluation.md compares the two)
-  double band = 0.05;           // m: a wall's points used, either side of its refined line; wider
-                                // takes in skirting, frames and furniture near the wall
-  double pitch_bin_deg = 1.0;   // the bootstrap's unit: rays within a bin share a servo step's error
+  bool estimate_device = true;     // estimate the device terms (off: hold them at zero, their priors
+                                   // added to the sigmas; docs/room_evaluation.md compares the two)
+  double band = 0.05;              // m: a wall's points used, either side of its refined line; wider
+                                   // takes in skirting, frames and furniture near the wall
+  double band_noise_sigmas = 2.5;  // ...or this many sigmas of the range noise at a point's range, where
+                                   // that is wider: a far wall's noise (5-7 cm at 5-7 m) cut at 5 cm
+                                   // left its fit where it started (near-wall rooms' far walls 4 cm off)
+  // The range noise, one sigma, at zero range and its growth per metre: LIDAR-Lite v3 as the
+  // thesis quotes its reference [2] (2.12 cm at 1.5 m, 3.51 cm at 3 m).
+  double range_noise = 0.0073;            // m
+  double range_noise_per_metre = 0.0093;  // m per m of range
+  double pitch_bin_deg = 1.0;             // the bootstrap's unit: rays within a bin share a servo step's error
   // The device's errors, one sigma (priors when estimated; added to the sigmas when not):
   double range_bias_prior = 0.01;      // m: a LIDAR-Lite v3 offset-calibrated at one distance, to its 1 cm resolution
   double lever_arm_prior = 0.02;       // m: the optical centre's height over the pitch axis, uncalibrated
