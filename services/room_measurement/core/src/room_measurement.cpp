@@ -310,7 +310,9 @@ std::vector<WallLine> step_sides(const std::vector<WallLine>& candidates, const 
       if (faces_scanner(wall) && joins_step(wall, candidates, step, kReach) &&
           (!best || wall.inliers.size() > best->inliers.size()))
         best = std::move(wall);
-    if (best) sides.push_back(std::move(*best));
+    if (!best) continue;
+    best->step_side = true;
+    sides.push_back(std::move(*best));
   }
   return sides;
 }

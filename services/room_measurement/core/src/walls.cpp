@@ -249,12 +249,27 @@ bool runs_past(const WallLine& wall, const Eigen::Vector2d& corner, int directio
          !wall.profile.seen_through(along, kReach, base + kLow);
 }
 
+// Whether a recess's side was found where `hidden` would stand (step_sides: seen nearly edge
+// on, over too short a turn to be a wall of the outline, its few grazing returns placing it
+// centimetres off): the back is then seen past the side's foot, and the side is there.
+bool side_found(const std::vector<WallLine>& walls, const WallLine& hidden) {
+  constexpr double kReach = 0.1;  // m between the side's line and where the hidden wall would stand
+  const double parallel = std::cos(10 * M_PI / 180);
+  const Eigen::Vector2d middle = hidden.normal * hidden.offset + hidden.direction() * (hidden.start + hidden.end) / 2;
+  return std::any_of(walls.begin(), walls.end(), [&](const WallLine& wall) {
+    return wall.step_side && std::abs(wall.normal.dot(hidden.normal)) > parallel &&
+           std::abs(wall.normal.dot(middle) - wall.offset) <= kReach;
+  });
+}
+
 // Between parallel neighbours one behind the other, the wall the scanner could not see:
 // where the turn leaves the nearer wall (its end, a corner seen) the farther one is seen from
 // the shadow's edge on, away from where the hidden wall meets it. Otherwise something else
 // hides the gap, or the wall would have faced the scanner (a door's far side seen through the
-// door): no wall is inferred, and the outline will not close.
-void insert_hidden_walls(std::vector<WallLine>& walls, const PolygonSettings& settings, std::vector<SeenWall>& order) {
+// door): no wall is inferred (unless a recess's side was found there, seen edge on), and the
+// outline will not close. Nor out of a face that a wardrobe could be (`ambiguous` says why).
+void insert_hidden_walls(std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
+                         std::vector<SeenWall>& order, std::string& ambiguous) {
   constexpr double kShadowTolerance = 0.3;  // m along the farther wall between the shadow's edge and its first points
   constexpr double kEdge = 0.05;            // m: the shadow's edge, as the nearer wall's end is known
   constexpr double kParallel = 10 * M_PI / 180;  // closer to parallel than a corner could be, yet not one wall
@@ -275,7 +290,24 @@ void insert_hidden_walls(std::vector<WallLine>& walls, const PolygonSettings& se
     WallLine hidden = infer_hidden_wall(before, after, end);
     const double foot =
         farther.direction().dot(intersect_lines(farther.normal, farther.offset, hidden.normal, hidden.offset));
-    if (before_nearer ? foot > shadow + kEdge : foot < shadow - kEdge) continue;
+    // Into a recess (the farther wall's other neighbour nearer and parallel too) a side found
+    // there stands in for the shadow: it is seen, edge on (not in front of furniture's face).
+    const WallLine& beyond =
+        walls[order[before_nearer ? (next + 1) % order.size() : (i + order.size() - 1) % order.size()].wall];
+    const bool recess =
+        hides_a_wall(farther, beyond, kParallel, settings.min_hidden_wall) && beyond.offset < farther.offset;
+    if ((before_nearer ? foot > shadow + kEdge : foot < shadow - kEdge) && !(recess && side_found(walls, hidden)))
+      continue;
+    // Standing out from the wall behind by a wardrobe's depth or less, where the view ends below
+    // the ceiling over it: a chimney breast, or tall furniture (its top above the view) taken for one.
+    constexpr double kFurnitureDepth = 0.8;  // m: wardrobes are 0.6 deep, bookshelves less
+    if (!recess && farther.offset - nearer.offset <= kFurnitureDepth &&
+        top_seen(nearer, view, settings) == TopSeen::ViewOnly) {
+      ambiguous =
+          "a face stands out from the wall behind it where the view ends below the ceiling: a chimney breast and tall "
+          "furniture cannot be told apart, the walls do not close a room";
+      continue;
+    }
     walls.push_back(std::move(hidden));
     order.insert(order.begin() + static_cast<long>(i) + 1, SeenWall{walls.size() - 1, nearer_angle, farther_angle});
     ++i;
@@ -625,7 +657,8 @@ std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimi
                                     const PolygonSettings& settings, std::string& why) {
   std::optional<std::vector<SeenWall>> order = walls_around(walls, view, settings, why);
   if (!order) return std::nullopt;
-  insert_hidden_walls(walls, settings, *order);
+  std::string ambiguous;
+  insert_hidden_walls(walls, view, settings, *order, ambiguous);
   Polygon polygon;
   for (const auto& seen_wall : *order) polygon.walls.push_back(seen_wall.wall);
   if (polygon.walls.size() < 3) {
@@ -646,8 +679,10 @@ std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimi
     const WallLine& b = walls[polygon.walls[i]];
     const double sine = std::abs(cross(a.normal, b.normal));
     if (sine < std::sin(settings.min_wall_angle_deg * M_PI / 180)) {
-      why = "neighbouring walls " + std::to_string(i == 0 ? count : i) + " and " + std::to_string(i + 1) +
-            " are parallel: a wall between them is missing, the walls do not close a room";
+      why = !ambiguous.empty()
+                ? ambiguous
+                : "neighbouring walls " + std::to_string(i == 0 ? count : i) + " and " + std::to_string(i + 1) +
+                      " are parallel: a wall between them is missing, the walls do not close a room";
       return std::nullopt;
     }
     const Eigen::Vector2d corner = intersect_lines(a.normal, a.offset, b.normal, b.offset);
@@ -694,7 +729,7 @@ std::vector<Step> step_gaps(const std::vector<WallLine>& walls, const ViewLimits
     const double enter = after.first < before.last ? after.first + 2 * M_PI : after.first;
     const WallLine& a = walls[before.wall];
     const WallLine& b = walls[after.wall];
-    if (!hides_a_wall(a, b, parallel, settings.min_hidden_wall) || enter - before.last < margin) continue;
+    if (!hides_a_wall(a, b, parallel, settings.min_hidden_wall)) continue;
     // Only into a recess (the farther wall's other neighbour nearer and parallel too): a
     // protrusion's found side would let its front meet the next wall where a hidden side and a
     // stretch of wall behind it may lie (measure_room cannot always tell; chimney breasts keep

@@ -40,8 +40,9 @@ struct WallLine {
   double z_gap = 0;            // m: the widest band of heights between z_low and z_high with no inlier
   std::vector<Eigen::Vector3f> inliers;
   WallProfile profile;
-  bool inferred = false;  // not seen: placed between two parallel walls the scanner saw (infer_hidden_wall)
-  double seen_over = 0;   // share of its middle where returns pass its line above its top (seen_over_share)
+  bool inferred = false;   // not seen: placed between two parallel walls the scanner saw (infer_hidden_wall)
+  bool step_side = false;  // found joining a step between parallel walls (room_measurement's step_sides)
+  double seen_over = 0;    // share of its middle where returns pass its line above its top (seen_over_share)
 
   Eigen::Vector2d direction() const { return {-normal.y(), normal.x()}; }
   // Where the ray from the scanner (the origin) through `point` meets the wall's plane: range
@@ -160,8 +161,8 @@ std::vector<Sector> open_sectors(const std::vector<WallLine>& walls, const ViewL
 // the wall either side of it, parallel), with the walls ordered as room_polygon orders them
 // but keeping a wall seen through a door-wide gap: the recess's side faces the scanner there
 // but, short and seen obliquely, made no plane of the whole cloud's size. `sector` is the gap
-// widened by `margin_deg` either side, to hold the side's ends; gaps narrower than the margin
-// are corners, not steps.
+// widened by `margin_deg` either side, to hold the side's ends (a side seen edge on leaves a
+// gap of a fraction of a degree, or none).
 struct Step {
   Sector sector;
   size_t before = 0, after = 0;  // the parallel walls, indices into the walls
