@@ -257,8 +257,10 @@ bool side_found(const std::vector<WallLine>& walls, const WallLine& hidden) {
   const double parallel = std::cos(10 * M_PI / 180);
   const Eigen::Vector2d middle = hidden.normal * hidden.offset + hidden.direction() * (hidden.start + hidden.end) / 2;
   return std::any_of(walls.begin(), walls.end(), [&](const WallLine& wall) {
+    const double along = wall.direction().dot(middle);
     return wall.step_side && std::abs(wall.normal.dot(hidden.normal)) > parallel &&
-           std::abs(wall.normal.dot(middle) - wall.offset) <= kReach;
+           std::abs(wall.normal.dot(middle) - wall.offset) <= kReach && along >= wall.start - kReach &&
+           along <= wall.end + kReach;
   });
 }
 
@@ -267,15 +269,15 @@ bool side_found(const std::vector<WallLine>& walls, const WallLine& hidden) {
 // the shadow's edge on, away from where the hidden wall meets it. Otherwise something else
 // hides the gap, or the wall would have faced the scanner (a door's far side seen through the
 // door): no wall is inferred (unless a recess's side was found there, seen edge on), and the
-// outline will not close. Nor out of a face that a wardrobe could be (`ambiguous` says why).
+// outline will not close. Nor out of a face that a wardrobe could be (listed in `ambiguous`).
 void insert_hidden_walls(std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
-                         std::vector<SeenWall>& order, std::string& ambiguous) {
+                         std::vector<SeenWall>& order, std::vector<size_t>& ambiguous) {
   constexpr double kShadowTolerance = 0.3;  // m along the farther wall between the shadow's edge and its first points
   constexpr double kEdge = 0.05;            // m: the shadow's edge, as the nearer wall's end is known
   constexpr double kParallel = 10 * M_PI / 180;  // closer to parallel than a corner could be, yet not one wall
   for (size_t i = 0; order.size() >= 2 && i < order.size(); ++i) {
     const size_t next = (i + 1) % order.size();
-    const WallLine& before = walls[order[i].wall];  // used only before walls grows below
+    const WallLine& before = walls[order[i].wall];  // these references used only before walls grows below
     const WallLine& after = walls[order[next].wall];
     if (before.inferred || after.inferred || !hides_a_wall(before, after, kParallel, settings.min_hidden_wall))
       continue;
@@ -292,10 +294,15 @@ void insert_hidden_walls(std::vector<WallLine>& walls, const ViewLimits& view, c
         farther.direction().dot(intersect_lines(farther.normal, farther.offset, hidden.normal, hidden.offset));
     // Into a recess (the farther wall's other neighbour nearer and parallel too) a side found
     // there stands in for the shadow: it is seen, edge on (not in front of furniture's face).
-    const WallLine& beyond =
-        walls[order[before_nearer ? (next + 1) % order.size() : (i + order.size() - 1) % order.size()].wall];
-    const bool recess =
-        hides_a_wall(farther, beyond, kParallel, settings.min_hidden_wall) && beyond.offset < farther.offset;
+    // (Its neighbour among the seen walls: a side this loop inferred at its other end is skipped.)
+    const size_t from = before_nearer ? next : i, count = order.size();
+    size_t other = from;
+    do other = before_nearer ? (other + 1) % count : (other + count - 1) % count;
+    while (walls[order[other].wall].inferred && other != from);
+    const WallLine& beyond = walls[order[other].wall];
+    const bool recess = count >= 3 && &beyond != &nearer &&
+                        hides_a_wall(farther, beyond, kParallel, settings.min_hidden_wall) &&
+                        beyond.offset < farther.offset;
     if ((before_nearer ? foot > shadow + kEdge : foot < shadow - kEdge) && !(recess && side_found(walls, hidden)))
       continue;
     // Standing out from the wall behind by a wardrobe's depth or less, where the view ends below
@@ -303,9 +310,7 @@ void insert_hidden_walls(std::vector<WallLine>& walls, const ViewLimits& view, c
     constexpr double kFurnitureDepth = 0.8;  // m: wardrobes are 0.6 deep, bookshelves less
     if (!recess && farther.offset - nearer.offset <= kFurnitureDepth &&
         top_seen(nearer, view, settings) == TopSeen::ViewOnly) {
-      ambiguous =
-          "a face stands out from the wall behind it where the view ends below the ceiling: a chimney breast and tall "
-          "furniture cannot be told apart, the walls do not close a room";
+      ambiguous.push_back(order[before_nearer ? i : next].wall);
       continue;
     }
     walls.push_back(std::move(hidden));
@@ -657,7 +662,7 @@ std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimi
                                     const PolygonSettings& settings, std::string& why) {
   std::optional<std::vector<SeenWall>> order = walls_around(walls, view, settings, why);
   if (!order) return std::nullopt;
-  std::string ambiguous;
+  std::vector<size_t> ambiguous;  // faces left without hidden sides: furniture or a chimney breast
   insert_hidden_walls(walls, view, settings, *order, ambiguous);
   Polygon polygon;
   for (const auto& seen_wall : *order) polygon.walls.push_back(seen_wall.wall);
@@ -679,10 +684,16 @@ std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimi
     const WallLine& b = walls[polygon.walls[i]];
     const double sine = std::abs(cross(a.normal, b.normal));
     if (sine < std::sin(settings.min_wall_angle_deg * M_PI / 180)) {
-      why = !ambiguous.empty()
-                ? ambiguous
-                : "neighbouring walls " + std::to_string(i == 0 ? count : i) + " and " + std::to_string(i + 1) +
-                      " are parallel: a wall between them is missing, the walls do not close a room";
+      const size_t number_a = i == 0 ? count : i, number_b = i + 1;
+      const bool a_ambiguous = std::count(ambiguous.begin(), ambiguous.end(), polygon.walls[number_a - 1]) > 0;
+      if (a_ambiguous || std::count(ambiguous.begin(), ambiguous.end(), polygon.walls[i]) > 0)
+        why = "wall " + std::to_string(a_ambiguous ? number_a : number_b) + " stands out from wall " +
+              std::to_string(a_ambiguous ? number_b : number_a) +
+              " where the view ends below the ceiling: a chimney breast and tall furniture cannot be told apart, the "
+              "walls do not close a room";
+      else
+        why = "neighbouring walls " + std::to_string(number_a) + " and " + std::to_string(number_b) +
+              " are parallel: a wall between them is missing, the walls do not close a room";
       return std::nullopt;
     }
     const Eigen::Vector2d corner = intersect_lines(a.normal, a.offset, b.normal, b.offset);
