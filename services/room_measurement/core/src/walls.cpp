@@ -249,6 +249,12 @@ bool runs_past(const WallLine& wall, const Eigen::Vector2d& corner, int directio
          !wall.profile.seen_through(along, kReach, base + kLow);
 }
 
+// Whether `back` is a recess's back beside `beyond`: parallel to it (within `angle`) and at
+// least `min_step` behind it (a recess has a nearer wall either side of its back).
+bool recess_beside(const WallLine& back, const WallLine& beyond, double angle, double min_step) {
+  return hides_a_wall(back, beyond, angle, min_step) && beyond.offset < back.offset;
+}
+
 // Whether a recess's side was found where `hidden` would stand (step_sides: seen nearly edge
 // on, over too short a turn to be a wall of the outline, its few grazing returns placing it
 // centimetres off): the back is then seen past the side's foot, and the side is there.
@@ -300,9 +306,8 @@ void insert_hidden_walls(std::vector<WallLine>& walls, const ViewLimits& view, c
     do other = before_nearer ? (other + 1) % count : (other + count - 1) % count;
     while (walls[order[other].wall].inferred && other != from);
     const WallLine& beyond = walls[order[other].wall];
-    const bool recess = count >= 3 && &beyond != &nearer &&
-                        hides_a_wall(farther, beyond, kParallel, settings.min_hidden_wall) &&
-                        beyond.offset < farther.offset;
+    const bool recess =
+        count >= 3 && &beyond != &nearer && recess_beside(farther, beyond, kParallel, settings.min_hidden_wall);
     if ((before_nearer ? foot > shadow + kEdge : foot < shadow - kEdge) && !(recess && side_found(walls, hidden)))
       continue;
     // Standing out from the wall behind by a wardrobe's depth or less, where the view ends below
@@ -749,7 +754,7 @@ std::vector<Step> step_gaps(const std::vector<WallLine>& walls, const ViewLimits
     const WallLine& back = into ? b : a;
     const size_t other = into ? (i + 2) % order->size() : (i + order->size() - 1) % order->size();
     const WallLine& beyond = walls[(*order)[other].wall];
-    if (!hides_a_wall(back, beyond, parallel, settings.min_hidden_wall) || beyond.offset > back.offset) continue;
+    if (!recess_beside(back, beyond, parallel, settings.min_hidden_wall)) continue;
     steps.push_back({{before.last - margin, enter + margin}, before.wall, after.wall, before.last, enter});
   }
   return steps;
