@@ -95,6 +95,27 @@ base = reference["height_rmse_m"]
 best = min(base["barometer"], base["scan_matcher"])
 print(f"poses over DDS: {len(poses)} of {scans} scans ({len(truth)} truth samples); fused height RMSE {rmse:.3f} m "
       f"(in one process {base['fused']:.3f}); barometer {base['barometer']:.3f}, scan matcher {base['scan_matcher']:.3f}")
+# Said, not asserted: poses whose attitude is off (one that went ahead without its IMU sample
+# under load smears its scan through the cloud), for a failing run's diagnosis.
+def roll_pitch(q):
+    w, x, y, z = q["w"], q["x"], q["y"], q["z"]
+    return (math.degrees(math.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))),
+            math.degrees(math.asin(max(-1.0, min(1.0, 2 * (w * y - z * x))))))
+try:
+    import bisect
+    truth_attitude = sorted((p["header"]["stamp"]["sec"] + p["header"]["stamp"]["nanosec"] * 1e-9,
+                             roll_pitch(p["pose"]["orientation"])) for p in map(json.loads, open(f"{work}/truth.jsonl")))
+    stamps = [t for t, _ in truth_attitude]
+    off = []
+    for p in poses:
+        stamp = p["header"]["stamp"]["sec"] + p["header"]["stamp"]["nanosec"] * 1e-9
+        i = min(bisect.bisect_left(stamps, stamp), len(stamps) - 1)
+        measured, true = roll_pitch(p["pose"]["pose"]["orientation"]), truth_attitude[i][1]
+        off.append(max(abs(measured[0] - true[0]), abs(measured[1] - true[1])))
+    print(f"attitude over DDS: {sum(o > 1.0 for o in off)} of {len(off)} poses over 1 degree off the truth in roll "
+          f"or pitch, worst {max(off):.2f} degrees")
+except (KeyError, ValueError, TypeError) as e:
+    print(f"attitude over DDS not compared: {e!r}")
 assert len(poses) >= 0.98 * scans, "poses lost on the way"
 if "boxes" in reference:
     window = json.load(open(f"{work}/boxes_window.json"))
