@@ -69,13 +69,12 @@ grep -h "samples lost" "$work"/*.log | tail -5  # where poses went missing, if a
 "$scanbus" cloud render "$work/assembled.pcd" --view side --out "$work/side.png" > /dev/null || fail "render"
 
 python3 - "$work" "$sample" <<'PY' || fail "figures"
-import json, math, sys
+import bisect, json, math, sys
 work, sample = sys.argv[1], sys.argv[2]
-truth = []
-for line in open(f"{work}/truth.jsonl"):
-    p = json.loads(line)
-    truth.append((p["header"]["stamp"]["sec"] + p["header"]["stamp"]["nanosec"] * 1e-9, p["pose"]["position"]["z"]))
-truth.sort()
+def stamp_of(message):
+    return message["header"]["stamp"]["sec"] + message["header"]["stamp"]["nanosec"] * 1e-9
+truth_poses = sorted((json.loads(line) for line in open(f"{work}/truth.jsonl")), key=stamp_of)
+truth = [(stamp_of(p), p["pose"]["position"]["z"]) for p in truth_poses]
 reference = json.load(open(f"{work}/in_process.json"))[0]
 scans = reference["scans"]
 def true_height(t):
@@ -88,8 +87,7 @@ def true_height(t):
 poses = [json.loads(l) for l in open(f"{work}/poses.jsonl")]
 errors = []
 for p in poses:
-    stamp = p["header"]["stamp"]["sec"] + p["header"]["stamp"]["nanosec"] * 1e-9
-    errors.append(p["pose"]["pose"]["position"]["z"] - true_height(stamp))
+    errors.append(p["pose"]["pose"]["position"]["z"] - true_height(stamp_of(p)))
 rmse = math.sqrt(sum(e * e for e in errors) / len(errors))
 base = reference["height_rmse_m"]
 best = min(base["barometer"], base["scan_matcher"])
@@ -102,15 +100,11 @@ def roll_pitch(q):
     return (math.degrees(math.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))),
             math.degrees(math.asin(max(-1.0, min(1.0, 2 * (w * y - z * x))))))
 try:
-    import bisect
-    truth_attitude = sorted((p["header"]["stamp"]["sec"] + p["header"]["stamp"]["nanosec"] * 1e-9,
-                             roll_pitch(p["pose"]["orientation"])) for p in map(json.loads, open(f"{work}/truth.jsonl")))
-    stamps = [t for t, _ in truth_attitude]
+    stamps = [t for t, _ in truth]
     off = []
     for p in poses:
-        stamp = p["header"]["stamp"]["sec"] + p["header"]["stamp"]["nanosec"] * 1e-9
-        i = min(bisect.bisect_left(stamps, stamp), len(stamps) - 1)
-        measured, true = roll_pitch(p["pose"]["pose"]["orientation"]), truth_attitude[i][1]
+        i = min(bisect.bisect_left(stamps, stamp_of(p)), len(stamps) - 1)
+        measured, true = roll_pitch(p["pose"]["pose"]["orientation"]), roll_pitch(truth_poses[i]["pose"]["orientation"])
         off.append(max(abs(measured[0] - true[0]), abs(measured[1] - true[1])))
     print(f"attitude over DDS: {sum(o > 1.0 for o in off)} of {len(off)} poses over 1 degree off the truth in roll "
           f"or pitch, worst {max(off):.2f} degrees")
