@@ -394,11 +394,12 @@ void refuse_outline(std::string why, RoomResult& result) {
 // few centimetres. Heights over furniture (a desk may stand on past a pillar's corner).
 bool runs_past_corner(const std::vector<Eigen::Vector3f>& points, const WallLine& wall, const WallLine& neighbour,
                       const Eigen::Vector2d& corner, int direction) {
-  constexpr double kBand = 0.04, kFrom = 0.1, kTo = 0.4;  // m: band about the lines, stretch past the corner
-  constexpr double kFurniture = 1.1, kCeiling = 0.2;      // m over its lowest, under its highest points
+  constexpr double kBand = 0.04, kFrom = 0.1, kStretch = 0.3;  // m: band about the lines, stretch past the corner
+  constexpr double kFurniture = 1.1, kCeiling = 0.2;           // m over its lowest, under its highest points
   constexpr size_t kMinPoints = 10;
   if (wall.inferred) return false;
   const double at = wall.direction().dot(corner);
+  const double from = std::max(kFrom, clear_of_neighbour(wall, neighbour));
   size_t past = 0;
   for (const auto& p : points) {
     const Eigen::Vector2d xy = p.head<2>().cast<double>();
@@ -406,7 +407,7 @@ bool runs_past_corner(const std::vector<Eigen::Vector3f>& points, const WallLine
         p.z() > wall.z_high - kCeiling || std::abs(neighbour.normal.dot(xy) - neighbour.offset) <= kBand)
       continue;
     const double beyond = direction * (wall.direction().dot(xy) - at);
-    past += beyond > kFrom && beyond < kTo;
+    past += beyond > from && beyond < from + kStretch;
   }
   return past >= kMinPoints;
 }

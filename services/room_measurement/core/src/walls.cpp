@@ -235,15 +235,19 @@ bool drop_occluders(const std::vector<WallLine>& walls, const ViewLimits& view, 
 // wall's range noise far away, ground seen through a door) unless it is seen above furniture.
 constexpr double kOwnStretch = 0.5;  // m
 
-// Whether a seen wall has points at wall heights well past a corner (`direction` +1: past its
-// end side, -1: its start side), and is not seen through there: it goes on behind its
-// neighbour, so the corner is not one (the neighbour's end stands in front of it, and a wall
-// between them is hidden). Returns crossing its line there show a gap above what stands on
-// it (a desk under a window, between two pillars): the wall's end is the corner.
-bool runs_past(const WallLine& wall, const Eigen::Vector2d& corner, int direction) {
+// Whether a seen wall has points at wall heights well past its corner with `neighbour`
+// (`direction` +1: past its end side, -1: its start side), and is not seen through there: it
+// goes on behind its neighbour, so the corner is not one (the neighbour's end stands in front of
+// it, and a wall between them is hidden). Returns crossing its line there show a gap above what
+// stands on it (a desk under a window, between two pillars): the wall's end is the corner. At a
+// shallow corner the neighbour runs on close to this wall's line: it is looked at only as far
+// past the corner as the neighbour stands kClear off it (a far wall's band and three sigmas of
+// its range noise).
+bool runs_past(const WallLine& wall, const WallLine& neighbour, const Eigen::Vector2d& corner, int direction) {
   constexpr double kPast = 0.25, kReach = 0.05, kLow = 0.3, kHigh = 1.5;  // m
   if (wall.inferred) return false;
-  const double along = wall.direction().dot(corner) + direction * kPast, base = wall.profile.base;
+  const double past = std::max(kPast, kReach + clear_of_neighbour(wall, neighbour));
+  const double along = wall.direction().dot(corner) + direction * past, base = wall.profile.base;
   if (along < wall.start - kOwnStretch || along > wall.end + kOwnStretch) return false;
   return wall.profile.has_points(along, kReach, base + kLow, base + kHigh) &&
          !wall.profile.seen_through(along, kReach, base + kLow);
@@ -429,6 +433,26 @@ std::vector<Eigen::Vector3f> long_runs(const WallLine& wall, double gap, double 
   return kept;
 }
 
+namespace {
+
+// Whether `small` is a sliver of `big`: RANSAC's plane through the noise on both sides of a far
+// wall's band, turned a few degrees from it (more than merge_collinear's angle), its points
+// within `tail` of the wall's line and within its length.
+bool sliver_of(const WallLine& small, const WallLine& big, double tail) {
+  constexpr double kMaxTurn = 10 * M_PI / 180;
+  constexpr double kShare = 0.9;  // of the sliver's points
+  if (small.normal.dot(big.normal) < std::cos(kMaxTurn)) return false;
+  size_t near = 0;
+  for (const auto& p : small.inliers) {
+    const Eigen::Vector2d xy = p.head<2>().cast<double>();
+    const double along = big.direction().dot(xy);
+    near += std::abs(big.normal.dot(xy) - big.offset) < tail && along > big.start - tail && along < big.end + tail;
+  }
+  return near >= kShare * static_cast<double>(small.inliers.size());
+}
+
+}  // namespace
+
 std::vector<WallLine> merge_collinear(std::vector<WallLine> walls, double angle, double same, double tail) {
   std::sort(walls.begin(), walls.end(),
             [](const auto& a, const auto& b) { return a.inliers.size() > b.inliers.size(); });
@@ -442,7 +466,7 @@ std::vector<WallLine> merge_collinear(std::vector<WallLine> walls, double angle,
         walls[i] = fit_wall(std::move(points));
         walls.erase(walls.begin() + static_cast<long>(j));
         j = i + 1;
-      } else if (parallel && gap < tail) {
+      } else if ((parallel && gap < tail) || sliver_of(walls[j], walls[i], tail)) {
         walls.erase(walls.begin() + static_cast<long>(j));
       } else {
         ++j;
@@ -708,8 +732,8 @@ std::optional<Polygon> room_polygon(std::vector<WallLine>& walls, const ViewLimi
             " meet outside the scanned area: the walls do not close a room";
       return std::nullopt;
     }
-    const bool a_runs_past = runs_past(a, corner, +1);
-    if (a_runs_past || runs_past(b, corner, -1)) {
+    const bool a_runs_past = runs_past(a, b, corner, +1);
+    if (a_runs_past || runs_past(b, a, corner, -1)) {
       const size_t number_a = i == 0 ? count : i, number_b = i + 1;
       why = "wall " + std::to_string(a_runs_past ? number_a : number_b) + " runs on past its corner with wall " +
             std::to_string(a_runs_past ? number_b : number_a) +
@@ -839,6 +863,11 @@ std::vector<Opening> find_openings(const WallLine& wall, const Eigen::Vector2d& 
     i = j;
   }
   return openings;
+}
+
+double clear_of_neighbour(const WallLine& wall, const WallLine& neighbour) {
+  const double sine = std::abs(cross(wall.normal, neighbour.normal));
+  return kNeighbourClearance * std::abs(wall.normal.dot(neighbour.normal)) / std::max(sine, 1e-6);
 }
 
 Eigen::Vector2d intersect_lines(const Eigen::Vector2d& na, double oa, const Eigen::Vector2d& nb, double ob) {

@@ -63,7 +63,9 @@ std::vector<Eigen::Vector3f> long_runs(const WallLine& wall, double gap, double 
 
 // Candidates on one line (normals within `angle`, offsets within `same`) are one wall that
 // RANSAC split: merged and refitted. A weaker candidate parallel to a stronger one and
-// within `tail` of it is the stronger one's noise beyond the RANSAC band: dropped.
+// within `tail` of it, or turned a few degrees with its points within `tail` of the stronger
+// one's line and length (a sliver through a far wall's noise), is that noise beyond the RANSAC
+// band: dropped.
 std::vector<WallLine> merge_collinear(std::vector<WallLine> walls, double angle, double same, double tail);
 
 // The wall's profile from every point within `band` of its line, and every point more than
@@ -108,7 +110,9 @@ WallEnd wall_end(const WallLine& wall, double near, bool at_end, const std::vect
                  double band, double max_gap);
 
 struct PolygonSettings {
-  double min_wall_angle_deg = 30;  // neighbours closer to parallel than this cannot meet in a corner
+  double min_wall_angle_deg = 10;  // neighbours closer to parallel than this cannot meet in a corner (a cut
+                                   // corner turns 15-45 degrees; under 10 a corner moves along the walls
+                                   // 6 times their offset error)
   double min_run_deg = 2;          // a wall seen over less of the turn is clutter
   double max_gap_deg = 40;         // a wider sector with no wall is an open side, not a doorway: no room
   double corner_margin = 1.0;      // m around the points where corners may lie (Algorithm 2)
@@ -193,6 +197,12 @@ std::vector<Opening> find_openings(const WallLine& wall, const Eigen::Vector2d& 
                                    double min_width);
 
 double polygon_area(const std::vector<Eigen::Vector2d>& corners);
+
+// How far past their corner, along `wall`, `neighbour` stands kNeighbourClearance off the wall's
+// line: at a shallow corner the neighbour's points lie close to the wall's line well past the
+// corner, and a wall running on past it is looked for only farther.
+constexpr double kNeighbourClearance = 0.2;  // m: a wall's band (4 cm) and 3 sigmas of range noise at 4 m
+double clear_of_neighbour(const WallLine& wall, const WallLine& neighbour);
 
 // Where the lines na . p = oa and nb . p = ob meet (they must not be parallel).
 Eigen::Vector2d intersect_lines(const Eigen::Vector2d& na, double oa, const Eigen::Vector2d& nb, double ob);
