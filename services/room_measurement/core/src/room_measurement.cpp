@@ -285,9 +285,11 @@ std::vector<Eigen::Vector3f> in_sector(const std::vector<Eigen::Vector3f>& point
 }
 
 // Whether the scanner sees the wall face on enough to be one it looks at across an open sector:
-// rays meeting it within kGrazing of its plane are columns of other surfaces lined up radially.
+// rays meeting it within kGrazing of its plane are columns of other surfaces lined up radially
+// (their plane runs through the scanner). An L's inner side, seen from the other arm along the
+// step, is met 4-6 degrees off its plane.
 bool faces_scanner(const WallLine& wall) {
-  constexpr double kGrazing = 10 * M_PI / 180;
+  constexpr double kGrazing = 3 * M_PI / 180;
   std::vector<double> sines;
   for (const auto& p : wall.inliers)
     sines.push_back(wall.offset / std::max(1e-6, static_cast<double>(p.head<2>().norm())));

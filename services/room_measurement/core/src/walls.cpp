@@ -253,6 +253,10 @@ bool runs_past(const WallLine& wall, const WallLine& neighbour, const Eigen::Vec
          !wall.profile.seen_through(along, kReach, base + kLow);
 }
 
+// A face standing out from the wall behind it by this or less may be tall furniture (wardrobes
+// are 0.6 m deep, bookshelves less) or a chimney breast; an L's or a T's arm is deeper.
+constexpr double kFurnitureDepth = 0.8;  // m
+
 // Whether `back` is a recess's back beside `beyond`: parallel to it (within `angle`) and at
 // least `min_step` behind it (a recess has a nearer wall either side of its back).
 bool recess_beside(const WallLine& back, const WallLine& beyond, double angle, double min_step) {
@@ -312,13 +316,15 @@ void insert_hidden_walls(std::vector<WallLine>& walls, const ViewLimits& view, c
     const WallLine& beyond = walls[order[other].wall];
     const bool recess =
         count >= 3 && &beyond != &nearer && recess_beside(farther, beyond, kParallel, settings.min_hidden_wall);
-    if ((before_nearer ? foot > shadow + kEdge : foot < shadow - kEdge) && !(recess && side_found(walls, hidden)))
+    // Out of a face deeper than furniture (an L's or a T's inner corner) likewise: a breast's
+    // found side would not tell that its other side, hidden, is there too.
+    const bool deep = farther.offset - nearer.offset > kFurnitureDepth;
+    if ((before_nearer ? foot > shadow + kEdge : foot < shadow - kEdge) &&
+        !((recess || deep) && side_found(walls, hidden)))
       continue;
     // Standing out from the wall behind by a wardrobe's depth or less, where the view ends below
     // the ceiling over it: a chimney breast, or tall furniture (its top above the view) taken for one.
-    constexpr double kFurnitureDepth = 0.8;  // m: wardrobes are 0.6 deep, bookshelves less
-    if (!recess && farther.offset - nearer.offset <= kFurnitureDepth &&
-        top_seen(nearer, view, settings) == TopSeen::ViewOnly) {
+    if (!recess && !deep && top_seen(nearer, view, settings) == TopSeen::ViewOnly) {
       ambiguous.push_back(order[before_nearer ? i : next].wall);
       continue;
     }
@@ -770,15 +776,17 @@ std::vector<Step> step_gaps(const std::vector<WallLine>& walls, const ViewLimits
     const WallLine& a = walls[before.wall];
     const WallLine& b = walls[after.wall];
     if (!hides_a_wall(a, b, parallel, settings.min_hidden_wall)) continue;
-    // Only into a recess (the farther wall's other neighbour nearer and parallel too): a
-    // protrusion's found side would let its front meet the next wall where a hidden side and a
-    // stretch of wall behind it may lie (measure_room cannot always tell; chimney breasts keep
+    // Into a recess (the farther wall's other neighbour nearer and parallel too) or out of a face
+    // deeper than furniture: a chimney breast's found side would let its front meet the next wall
+    // where its other side and a stretch of wall behind it may lie, hidden (chimney breasts keep
     // to the hidden-wall inference).
     const bool into = a.offset < b.offset;
     const WallLine& back = into ? b : a;
     const size_t other = into ? (i + 2) % order->size() : (i + order->size() - 1) % order->size();
     const WallLine& beyond = walls[(*order)[other].wall];
-    if (!recess_beside(back, beyond, parallel, settings.min_hidden_wall)) continue;
+    if (!recess_beside(back, beyond, parallel, settings.min_hidden_wall) &&
+        std::abs(a.offset - b.offset) <= kFurnitureDepth)
+      continue;
     steps.push_back({{before.last - margin, enter + margin}, before.wall, after.wall, before.last, enter});
   }
   return steps;
