@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 #include "commands.hpp"
@@ -208,6 +209,11 @@ int run_eval_mav(EvalMavOptions options) {
     std::cerr << "scanbus eval mav: config error: " << e.what() << "\n";
     return 2;
   }
+  std::error_code made;  // before the flights' minutes, as `eval rooms --out` does
+  if (!options.out.empty() && !std::filesystem::create_directories(options.out, made) && made) {
+    std::cerr << "scanbus eval mav: --out " << options.out << ": " << made.message() << "\n";
+    return 2;
+  }
   std::vector<FlightEvaluation> evaluations;
   for (const auto& [name, log] : flights) {
     const std::string label = name;
@@ -366,12 +372,10 @@ void add_eval_command(CLI::App& app, int& exit_code) {
       ->delimiter(',')
       ->check(CLI::Range(1, 4));
   add_flight_options(*flights, mav.flight);
-  flights
-      ->add_option(
-          "--out", mav.out,
-          "Folder for each flight's clouds (PCD), height-coloured top views (PNG), heights (CSV) and the fused "
-          "cloud's elevation grid (GeoTIFF)")
-      ->check(CLI::ExistingDirectory);
+  flights->add_option(
+      "--out", mav.out,
+      "Folder (made if missing) for each flight's clouds (PCD), height-coloured top views (PNG), heights (CSV) "
+      "and the fused cloud's elevation grid (GeoTIFF)");
   flights->add_flag("--json", mav.json, "One JSON array, no progress");
   flights
       ->add_option("--config", mav.config,
