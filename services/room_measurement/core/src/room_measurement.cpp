@@ -284,17 +284,14 @@ std::vector<Eigen::Vector3f> in_sector(const std::vector<Eigen::Vector3f>& point
   return inside;
 }
 
-// Whether the scanner sees the wall face on enough to be one it looks at across an open sector:
-// rays meeting it within kGrazing of its plane are columns of other surfaces lined up radially
-// (their plane runs through the scanner). An L's inner side, seen from the other arm along the
-// step, is met 4-6 degrees off its plane.
-bool faces_scanner(const WallLine& wall) {
-  constexpr double kGrazing = 3 * M_PI / 180;
+// Whether the scanner sees the wall more than `grazing` off its plane: planes of columns of
+// other surfaces lined up radially run through the scanner (0 degrees).
+bool faces_scanner(const WallLine& wall, double grazing) {
   std::vector<double> sines;
   for (const auto& p : wall.inliers)
     sines.push_back(wall.offset / std::max(1e-6, static_cast<double>(p.head<2>().norm())));
   std::nth_element(sines.begin(), sines.begin() + static_cast<long>(sines.size() / 2), sines.end());
-  return !sines.empty() && sines[sines.size() / 2] >= std::sin(kGrazing);
+  return !sines.empty() && sines[sines.size() / 2] >= std::sin(grazing);
 }
 
 // The side joining each step between parallel walls (step_gaps), looked for among the gap's
@@ -305,11 +302,13 @@ std::vector<WallLine> step_sides(const std::vector<WallLine>& candidates, const 
                                  const ViewLimits& view, const RoomResult& result) {
   constexpr double kMargin = 2;   // degrees either side of the gap: the side's ends
   constexpr double kReach = 0.3;  // m: the side meets the step's walls this near where the turn leaves or meets them
+  // An L's inner side, seen from the other arm along the step, is met 4-6 degrees off its plane.
+  constexpr double kGrazing = 3 * M_PI / 180;
   std::vector<WallLine> sides;
   for (const Step& step : step_gaps(candidates, view, settings.polygon, kMargin)) {
     std::optional<WallLine> best;
     for (WallLine& wall : wall_candidates(in_sector(points, step.sector, result), settings, valid, view))
-      if (faces_scanner(wall) && joins_step(wall, candidates, step, kReach) &&
+      if (faces_scanner(wall, kGrazing) && joins_step(wall, candidates, step, kReach) &&
           (!best || wall.inliers.size() > best->inliers.size()))
         best = std::move(wall);
     if (!best) continue;
@@ -392,8 +391,8 @@ void refuse_outline(std::string why, RoomResult& result) {
 // the scatter the corner leaves, off the neighbour's line: at a shallow corner that runs close
 // to this one's): it goes on behind the neighbour's end (the wall behind a chimney breast's
 // hidden side, seen just past where the breast's front meets its line), so the corner is not
-// one. room_polygon checked the candidates only farther past, their corners being known to a
-// few centimetres. Heights over furniture (a desk may stand on past a pillar's corner).
+// one. room_polygon checked the candidates only at one place past (from 0.25 m), with their
+// profiles. Heights over furniture (a desk may stand on past a pillar's corner).
 bool runs_past_corner(const std::vector<Eigen::Vector3f>& points, const WallLine& wall, const WallLine& neighbour,
                       const Eigen::Vector2d& corner, int direction) {
   constexpr double kBand = 0.04, kFrom = 0.1, kStretch = 0.3;  // m: band about the lines, stretch past the corner
@@ -498,9 +497,10 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
   // A wall with few returns (far, or glass) makes no plane of the whole cloud's share: where no
   // wall encloses the scanner, the planes are looked for again among that sector's points alone.
   std::vector<WallLine> sector_walls;
+  constexpr double kGrazing = 10 * M_PI / 180;  // a wall it looks at across an open sector
   for (const Sector& sector : open_sectors(candidates, view, settings.polygon, settings.open_sector_deg))
     for (WallLine& wall : wall_candidates(in_sector(walls_only, sector, result), settings, valid, view))
-      if (faces_scanner(wall)) sector_walls.push_back(std::move(wall));
+      if (faces_scanner(wall, kGrazing)) sector_walls.push_back(std::move(wall));
   // So may the short side of a step between parallel walls.
   for (WallLine& side : step_sides(candidates, walls_only, settings, valid, view, result))
     sector_walls.push_back(std::move(side));
@@ -626,7 +626,8 @@ RoomSettings room_settings_from_config(const Config& section) {
   s.open_sector_deg = section.number("open_sector", s.open_sector_deg, 0.5, 360);
   s.min_wall_fill = section.number("min_wall_fill", s.min_wall_fill, 0, 1);
   const Config polygon = section.section("polygon");
-  s.polygon.min_wall_angle_deg = polygon.number("min_wall_angle", s.polygon.min_wall_angle_deg, 1, 89);
+  s.polygon.min_wall_angle_deg = polygon.number("min_wall_angle", s.polygon.min_wall_angle_deg, 10,
+                                                89);  // under 10: insert_hidden_walls' parallel
   s.polygon.min_run_deg = polygon.number("min_run", s.polygon.min_run_deg, 0, 90);
   s.polygon.max_gap_deg = polygon.number("max_gap", s.polygon.max_gap_deg, 0, 180);
   s.polygon.corner_margin = polygon.number("corner_margin", s.polygon.corner_margin, 0, 100);

@@ -240,13 +240,13 @@ constexpr double kOwnStretch = 0.5;  // m
 // goes on behind its neighbour, so the corner is not one (the neighbour's end stands in front of
 // it, and a wall between them is hidden). Returns crossing its line there show a gap above what
 // stands on it (a desk under a window, between two pillars): the wall's end is the corner. At a
-// shallow corner the neighbour runs on close to this wall's line: it is looked at only as far
-// past the corner as the neighbour stands kClear off it (a far wall's band and three sigmas of
-// its range noise).
+// shallow corner it is looked at only past where the neighbour is clear of its line
+// (clear_of_neighbour), at most kFarthest past the corner: under a 20-degree turn the
+// neighbour's own points may then count, and the room is refused rather than closed.
 bool runs_past(const WallLine& wall, const WallLine& neighbour, const Eigen::Vector2d& corner, int direction) {
-  constexpr double kPast = 0.25, kReach = 0.05, kLow = 0.3, kHigh = 1.5;  // m
+  constexpr double kPast = 0.25, kFarthest = 0.6, kReach = 0.05, kLow = 0.3, kHigh = 1.5;  // m
   if (wall.inferred) return false;
-  const double past = std::max(kPast, kReach + clear_of_neighbour(wall, neighbour));
+  const double past = std::clamp(kReach + clear_of_neighbour(wall, neighbour), kPast, kFarthest);
   const double along = wall.direction().dot(corner) + direction * past, base = wall.profile.base;
   if (along < wall.start - kOwnStretch || along > wall.end + kOwnStretch) return false;
   return wall.profile.has_points(along, kReach, base + kLow, base + kHigh) &&
@@ -282,8 +282,9 @@ bool side_found(const std::vector<WallLine>& walls, const WallLine& hidden) {
 // where the turn leaves the nearer wall (its end, a corner seen) the farther one is seen from
 // the shadow's edge on, away from where the hidden wall meets it. Otherwise something else
 // hides the gap, or the wall would have faced the scanner (a door's far side seen through the
-// door): no wall is inferred (unless a recess's side was found there, seen edge on), and the
-// outline will not close. Nor out of a face that a wardrobe could be (listed in `ambiguous`).
+// door): no wall is inferred (unless a side was found there, seen edge on, into a recess or out
+// of a face deeper than furniture), and the outline will not close. Nor out of a face that a wardrobe could be (listed
+// in `ambiguous`).
 void insert_hidden_walls(std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
                          std::vector<SeenWall>& order, std::vector<size_t>& ambiguous) {
   constexpr double kShadowTolerance = 0.3;  // m along the farther wall between the shadow's edge and its first points
@@ -874,8 +875,10 @@ std::vector<Opening> find_openings(const WallLine& wall, const Eigen::Vector2d& 
 }
 
 double clear_of_neighbour(const WallLine& wall, const WallLine& neighbour) {
+  // Normals point away from the scanner: past a turn of more than 90 degrees (a negative dot) the
+  // neighbour runs back from the corner, clear of the wall's line at once.
   const double sine = std::abs(cross(wall.normal, neighbour.normal));
-  return kNeighbourClearance * std::abs(wall.normal.dot(neighbour.normal)) / std::max(sine, 1e-6);
+  return kNeighbourClearance * std::max(0.0, wall.normal.dot(neighbour.normal)) / std::max(sine, 1e-6);
 }
 
 Eigen::Vector2d intersect_lines(const Eigen::Vector2d& na, double oa, const Eigen::Vector2d& nb, double ob) {

@@ -644,3 +644,19 @@ TEST(WallAdjustment, NoiseDoesNotBiasIt) {
   EXPECT_NEAR(adjusted.range_bias, 0, 0.002);
   EXPECT_NEAR(adjusted.lever_arm, 0, 0.005);
 }
+
+// Past a corner, how far along a wall its neighbour stays within kNeighbourClearance of the
+// wall's line: nowhere at 90 degrees or past a turn over 90 (it runs back), 0.2 / tan(30) m at
+// a 30-degree turn.
+TEST(Walls, ANeighbourAtAShallowTurnIsClearOnlyFartherPast) {
+  auto line = [](double degrees) {
+    WallLine wall;
+    wall.normal = Eigen::Vector2d(std::cos(degrees * M_PI / 180), std::sin(degrees * M_PI / 180));
+    wall.offset = 2.0;
+    return wall;
+  };
+  EXPECT_NEAR(clear_of_neighbour(line(0), line(90)), 0.0, 1e-9);
+  EXPECT_NEAR(clear_of_neighbour(line(0), line(30)), kNeighbourClearance / std::tan(M_PI / 6), 1e-9);
+  EXPECT_NEAR(clear_of_neighbour(line(0), line(135)), 0.0, 1e-9);
+  EXPECT_GT(clear_of_neighbour(line(0), line(10)), 1.0);
+}
