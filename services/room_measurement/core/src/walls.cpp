@@ -283,8 +283,8 @@ bool side_found(const std::vector<WallLine>& walls, const WallLine& hidden) {
 // the shadow's edge on, away from where the hidden wall meets it. Otherwise something else
 // hides the gap, or the wall would have faced the scanner (a door's far side seen through the
 // door): no wall is inferred (unless a side was found there, seen edge on, into a recess or out
-// of a face deeper than furniture), and the outline will not close. Nor out of a face that a wardrobe could be (listed
-// in `ambiguous`).
+// of a face deeper than furniture), and the outline will not close. Nor out of a face that a
+// wardrobe could be (listed in `ambiguous`).
 void insert_hidden_walls(std::vector<WallLine>& walls, const ViewLimits& view, const PolygonSettings& settings,
                          std::vector<SeenWall>& order, std::vector<size_t>& ambiguous) {
   constexpr double kShadowTolerance = 0.3;  // m along the farther wall between the shadow's edge and its first points
