@@ -660,3 +660,25 @@ TEST(Walls, ANeighbourAtAShallowTurnIsClearOnlyFartherPast) {
   EXPECT_NEAR(clear_of_neighbour(line(0), line(135)), 0.0, 1e-9);
   EXPECT_GT(clear_of_neighbour(line(0), line(10)), 1.0);
 }
+
+// A plane 4 degrees off a wall through its noise (its points within `tail` of the wall's line)
+// is that wall's sliver, dropped; a real wall 4 degrees off, running away from the first (a
+// shallow corner), keeps its own points farther off and stays.
+TEST(Walls, ASliverThroughAWallsNoiseIsDroppedAShallowNeighbourIsNot) {
+  std::mt19937 random(7);
+  std::vector<Eigen::Vector3f> wall_points, sliver_points, neighbour_points;
+  add_wall(wall_points, {3.0f, -2.0f}, {3.0f, 2.0f}, random, 0.03f);
+  const float turn = 4 * static_cast<float>(M_PI) / 180;
+  // The sliver crosses the wall's band from 6 cm in front to 6 cm behind over 1.7 m.
+  for (float t = -0.85f; t <= 0.85f; t += 0.01f)
+    for (float z = -1.0f; z <= 1.0f; z += 0.1f) sliver_points.emplace_back(3.0f + t * std::tan(turn), t, z);
+  // The neighbour leaves the wall's end at (3, 2) turned 4 degrees, out to 2 m along.
+  for (float t = 0.5f; t <= 2.0f; t += 0.01f)
+    for (float z = -1.0f; z <= 1.0f; z += 0.1f)
+      neighbour_points.emplace_back(3.0f + t * std::sin(turn), 2.0f + t * std::cos(turn), z);
+  const double tail = 0.12;
+  const auto merged = merge_collinear({fit_wall(wall_points), fit_wall(sliver_points)}, 3 * M_PI / 180, 0.02, tail);
+  EXPECT_EQ(merged.size(), 1u);
+  const auto kept = merge_collinear({fit_wall(wall_points), fit_wall(neighbour_points)}, 3 * M_PI / 180, 0.02, tail);
+  EXPECT_EQ(kept.size(), 2u);
+}
