@@ -284,14 +284,15 @@ std::vector<Eigen::Vector3f> in_sector(const std::vector<Eigen::Vector3f>& point
   return inside;
 }
 
-// Whether the scanner sees the wall more than `grazing` off its plane: planes of columns of
-// other surfaces lined up radially run through the scanner (0 degrees).
-bool faces_scanner(const WallLine& wall, double grazing) {
+// Whether the scanner sees the wall face on enough to be one it looks at across an open sector:
+// rays meeting it within kGrazing of its plane are columns of other surfaces lined up radially.
+bool faces_scanner(const WallLine& wall) {
+  constexpr double kGrazing = 10 * M_PI / 180;
   std::vector<double> sines;
   for (const auto& p : wall.inliers)
     sines.push_back(wall.offset / std::max(1e-6, static_cast<double>(p.head<2>().norm())));
   std::nth_element(sines.begin(), sines.begin() + static_cast<long>(sines.size() / 2), sines.end());
-  return !sines.empty() && sines[sines.size() / 2] >= std::sin(grazing);
+  return !sines.empty() && sines[sines.size() / 2] >= std::sin(kGrazing);
 }
 
 // The side joining each step between parallel walls (step_gaps), looked for among the gap's
@@ -302,13 +303,11 @@ std::vector<WallLine> step_sides(const std::vector<WallLine>& candidates, const 
                                  const ViewLimits& view, const RoomResult& result) {
   constexpr double kMargin = 2;   // degrees either side of the gap: the side's ends
   constexpr double kReach = 0.3;  // m: the side meets the step's walls this near where the turn leaves or meets them
-  // An L's inner side, seen from the other arm along the step, is met 4-6 degrees off its plane.
-  constexpr double kGrazing = 3 * M_PI / 180;
   std::vector<WallLine> sides;
   for (const Step& step : step_gaps(candidates, view, settings.polygon, kMargin)) {
     std::optional<WallLine> best;
     for (WallLine& wall : wall_candidates(in_sector(points, step.sector, result), settings, valid, view))
-      if (faces_scanner(wall, kGrazing) && joins_step(wall, candidates, step, kReach) &&
+      if (faces_scanner(wall) && joins_step(wall, candidates, step, kReach) &&
           (!best || wall.inliers.size() > best->inliers.size()))
         best = std::move(wall);
     if (!best) continue;
@@ -497,10 +496,9 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
   // A wall with few returns (far, or glass) makes no plane of the whole cloud's share: where no
   // wall encloses the scanner, the planes are looked for again among that sector's points alone.
   std::vector<WallLine> sector_walls;
-  constexpr double kGrazing = 10 * M_PI / 180;  // a wall it looks at across an open sector
   for (const Sector& sector : open_sectors(candidates, view, settings.polygon, settings.open_sector_deg))
     for (WallLine& wall : wall_candidates(in_sector(walls_only, sector, result), settings, valid, view))
-      if (faces_scanner(wall, kGrazing)) sector_walls.push_back(std::move(wall));
+      if (faces_scanner(wall)) sector_walls.push_back(std::move(wall));
   // So may the short side of a step between parallel walls.
   for (WallLine& side : step_sides(candidates, walls_only, settings, valid, view, result))
     sector_walls.push_back(std::move(side));

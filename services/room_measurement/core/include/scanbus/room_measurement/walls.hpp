@@ -162,8 +162,7 @@ std::vector<Sector> open_sectors(const std::vector<WallLine>& walls, const ViewL
                                  const PolygonSettings& settings, double min_width_deg);
 
 // A gap in the turn from a wall into a recess behind it, or out again (an alcove's back and
-// the wall either side of it, parallel), or from a face deeper than furniture to the wall
-// behind it (an L's or a T's inner corner), with the walls ordered as room_polygon orders them
+// the wall either side of it, parallel), with the walls ordered as room_polygon orders them
 // but keeping a wall seen through a door-wide gap: the recess's side faces the scanner there
 // but, short and seen obliquely, made no plane of the whole cloud's size. `sector` is the gap
 // widened by `margin_deg` either side, to hold the side's ends (a side seen edge on leaves a
