@@ -624,8 +624,8 @@ RoomSettings room_settings_from_config(const Config& section) {
   s.open_sector_deg = section.number("open_sector", s.open_sector_deg, 0.5, 360);
   s.min_wall_fill = section.number("min_wall_fill", s.min_wall_fill, 0, 1);
   const Config polygon = section.section("polygon");
-  s.polygon.min_wall_angle_deg = polygon.number("min_wall_angle", s.polygon.min_wall_angle_deg, 10,
-                                                89);  // under 10: insert_hidden_walls' parallel
+  // Not under 10 degrees: there insert_hidden_walls takes neighbours for parallel.
+  s.polygon.min_wall_angle_deg = polygon.number("min_wall_angle", s.polygon.min_wall_angle_deg, 10, 89);
   s.polygon.min_run_deg = polygon.number("min_run", s.polygon.min_run_deg, 0, 90);
   s.polygon.max_gap_deg = polygon.number("max_gap", s.polygon.max_gap_deg, 0, 180);
   s.polygon.corner_margin = polygon.number("corner_margin", s.polygon.corner_margin, 0, 100);
