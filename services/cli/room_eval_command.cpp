@@ -3,6 +3,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 
 #include "commands.hpp"
@@ -10,6 +11,7 @@
 #include "scanbus/cloud_io/cloud_files.hpp"
 #include "scanbus/room_evaluation/room_evaluation.hpp"
 #include "scanbus/room_plan/floor_plan.hpp"
+#include "scanbus/sim/room_file.hpp"
 
 namespace scanbus::cli {
 
@@ -23,7 +25,8 @@ struct EvalRoomsOptions {
   std::string out;
 };
 
-// Each room's scan (PCD) and measured floor plan (PNG and DXF), named by category and seed.
+// Each room's scan (PCD), measured floor plan (PNG and DXF) and true room (a room file for
+// `scanbus sim scanner --room`), named by category and seed.
 void write_cases(const std::string& folder, const std::vector<room_evaluation::RoomCase>& cases) {
   for (const auto& c : cases) {
     const std::string name = folder + "/" + sim::category_name(c.category) + "_" + std::to_string(c.seed);
@@ -32,6 +35,7 @@ void write_cases(const std::string& folder, const std::vector<room_evaluation::R
     cloud_io::write_pcd(name + ".pcd", points);
     room_plan::write_floor_plan(name + "_plan.png", c.measurement, name, c.cloud);
     room_plan::write_floor_plan(name + "_plan.dxf", c.measurement, name);
+    std::ofstream(name + "_room.yaml") << sim::room_to_yaml(c.room);
   }
 }
 
@@ -163,6 +167,13 @@ int run_eval_rooms(const EvalRoomsOptions& options) {
   return 0;
 }
 
+std::string category_names() {
+  std::string names;
+  for (auto category : sim::room_categories())
+    names += (names.empty() ? "" : ", ") + std::string(sim::category_name(category));
+  return names;
+}
+
 }  // namespace
 
 void add_eval_rooms_command(CLI::App& eval, int& exit_code) {
@@ -173,12 +184,28 @@ void add_eval_rooms_command(CLI::App& eval, int& exit_code) {
                                     "firmware simulator with a device's imperfections; no DDS");
   rooms->add_option("--count", options.sweep.count, "Rooms, spread over the categories")->check(CLI::Range(1, 100000));
   rooms->add_option("--seed", options.sweep.first_seed, "First seed of each category");
+  rooms
+      ->add_option_function<std::vector<std::string>>(
+          "--category",
+          [](const std::vector<std::string>& names) {
+            options.sweep.categories.clear();
+            for (const auto& name : names) options.sweep.categories.push_back(sim::category_named(name));
+          },
+          "Only these categories (" + category_names() + ")")
+      ->check([](const std::string& name) {
+        try {
+          sim::category_named(name);
+          return std::string();
+        } catch (const std::invalid_argument& e) {
+          return std::string(e.what());
+        }
+      });
   rooms->add_option("--threads", options.sweep.threads, "Worker threads (0: one per core)")->check(CLI::Range(0, 256));
   rooms->add_flag("--ideal-device", options.sweep.ideal_device,
                   "Scan with the ideal device of the thesis's equations (2 cm noise, no imperfections)");
   rooms
       ->add_option("--out", options.out,
-                   "Folder (made if missing) for each room's scan (PCD) and floor plan (PNG, DXF)")
+                   "Folder (made if missing) for each room's scan (PCD), floor plan (PNG, DXF) and true room (YAML)")
       ->each([](const std::string&) { options.sweep.keep_clouds = true; });
   rooms
       ->add_option("--config", options.config,

@@ -1,5 +1,7 @@
 #include "scanbus/sim/room_file.hpp"
 
+#include <yaml-cpp/yaml.h>
+
 #include <cmath>
 #include <stdexcept>
 
@@ -44,6 +46,42 @@ RoomModel load_room_file(const std::string& path) {
   RoomModel room = load_room(config);
   config.check_all_read();
   return room;
+}
+
+std::string room_to_yaml(const RoomModel& room) {
+  const auto row = [](std::initializer_list<double> values) {
+    YAML::Node node(YAML::NodeType::Sequence);
+    for (double v : values) node.push_back(v);
+    node.SetStyle(YAML::EmitterStyle::Flow);
+    return node;
+  };
+  YAML::Node root(YAML::NodeType::Map);
+  root["name"] = room.name;
+  for (const auto& c : room.corners) root["corners"].push_back(row({c.x(), c.y()}));
+  root["corners"].SetStyle(YAML::EmitterStyle::Flow);
+  root["ceiling"] = room.ceiling;
+  root["outside"] = room.outside;
+  root["scanner"]["position"] = row({room.scanner.x(), room.scanner.y(), room.scanner.z()});
+  root["scanner"]["heading"] = room.heading * 180.0 / M_PI;
+  for (const auto& o : room.openings) {
+    YAML::Node opening;
+    opening["wall"] = o.wall, opening["from"] = o.from, opening["to"] = o.to;
+    opening["bottom"] = o.bottom, opening["top"] = o.top;
+    opening.SetStyle(YAML::EmitterStyle::Flow);
+    root["openings"].push_back(opening);
+  }
+  for (const auto& w : room.outside_walls)
+    root["outside_walls"].push_back(row({w.from.x(), w.from.y(), w.to.x(), w.to.y()}));
+  for (const auto& b : room.boxes) {
+    YAML::Node box;
+    box["min"] = row({b.min.x(), b.min.y(), b.min.z()});
+    box["max"] = row({b.max.x(), b.max.y(), b.max.z()});
+    box.SetStyle(YAML::EmitterStyle::Flow);
+    root["boxes"].push_back(box);
+  }
+  YAML::Emitter out;
+  out << root;
+  return std::string(out.c_str()) + "\n";
 }
 
 }  // namespace scanbus::sim

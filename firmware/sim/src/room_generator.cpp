@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 namespace scanbus::sim {
@@ -123,10 +124,14 @@ void add_windows(RoomModel& room, Draw& draw, int count) {
   }
 }
 
-// A recess (depth > 0) or protrusion (depth < 0) in the rectangle's bottom wall.
-RoomModel notched_rectangle(Draw& draw, double w, double d, double width, double depth) {
+// A recess (depth > 0) or protrusion (depth < 0) in the rectangle's bottom wall, `corner_gap`
+// from one of its corners if given, anywhere along it if not.
+RoomModel notched_rectangle(Draw& draw, double w, double d, double width, double depth,
+                            std::optional<double> corner_gap = std::nullopt) {
   RoomModel room = rectangle(draw, w, d);
-  const double a = draw.uniform(0.3, w - width - 0.3);
+  const double a = !corner_gap        ? draw.uniform(0.3, w - width - 0.3)
+                   : draw.chance(0.5) ? *corner_gap
+                                      : w - width - *corner_gap;
   room.corners = {{0, 0}, {a, 0}, {a, -depth}, {a + width, -depth}, {a + width, 0}, {w, 0}, {w, d}, {0, d}};
   return room;
 }
@@ -247,6 +252,15 @@ RoomModel make_room(RoomCategory category, Draw& draw) {
       place_scanner(room, draw, 0.9);
       break;
     }
+    case RoomCategory::BuiltIn: {
+      // Its side towards the near corner and the gap behind it are hidden from most spots: the
+      // front must not be taken for an L's inner wall meeting the side wall. (Drawn one by one:
+      // the order of a call's arguments is the compiler's.)
+      const double gap = draw.uniform(0.2, 0.8), depth = draw.uniform(0.8, 1.4), width = draw.uniform(0.8, 1.8);
+      room = notched_rectangle(draw, w, d, width, -depth, gap);
+      place_scanner(room, draw, 0.9);
+      break;
+    }
   }
   room.name = std::string(category_name(category));
   room.validate();
@@ -259,7 +273,8 @@ const std::vector<RoomCategory>& room_categories() {
   static const std::vector<RoomCategory> all = {
       RoomCategory::Box,           RoomCategory::Doors,    RoomCategory::Windows, RoomCategory::Alcove,
       RoomCategory::ChimneyBreast, RoomCategory::LShape,   RoomCategory::TShape,  RoomCategory::Angled,
-      RoomCategory::Furniture,     RoomCategory::NearWall, RoomCategory::Closet,  RoomCategory::Mixed};
+      RoomCategory::Furniture,     RoomCategory::NearWall, RoomCategory::Closet,  RoomCategory::Mixed,
+      RoomCategory::BuiltIn};
   return all;
 }
 
@@ -289,8 +304,16 @@ const char* category_name(RoomCategory category) {
       return "closet";
     case RoomCategory::Mixed:
       return "mixed";
+    case RoomCategory::BuiltIn:
+      return "built_in";
   }
   return "unknown";
+}
+
+RoomCategory category_named(const std::string& name) {
+  for (auto category : room_categories())
+    if (name == category_name(category)) return category;
+  throw std::invalid_argument("no room category called '" + name + "'");
 }
 
 HardwareSettings draw_hardware(std::mt19937& random) {

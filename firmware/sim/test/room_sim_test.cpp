@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "scanbus/sim/room_file.hpp"
+#include "scanbus/sim/room_generator.hpp"
 
 using namespace scanbus::sim;
 
@@ -115,6 +116,37 @@ TEST(RoomFile, BadRoomIsAConfigError) {
   EXPECT_EQ(error("ceiling: 2\nscanner: {position: [1, 1, 1]}\n"), "room.yaml: key 'corners' is required");
   EXPECT_EQ(error("corners: [[0, 0], [1, 0], [1, 1]]\nscanner: {position: [5, 5, 1]}\n"),
             "room.yaml: the scanner stands outside the floor plan");
+}
+
+// A generated room written out reads back as the same room: doors with walls behind them,
+// furniture, a mixed room's alcove.
+TEST(RoomFile, AGeneratedRoomWrittenOutReadsBack) {
+  size_t outside_walls = 0, boxes = 0;
+  for (const auto category : {RoomCategory::Doors, RoomCategory::Furniture, RoomCategory::Mixed})
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+      const RoomModel room = generate_room(category, seed).room;
+      outside_walls += room.outside_walls.size(), boxes += room.boxes.size();
+      const RoomModel back = load_room(scanbus::Config::parse(room_to_yaml(room), "room.yaml"));
+      EXPECT_EQ(back.name, room.name);
+      ASSERT_EQ(back.corners.size(), room.corners.size());
+      for (size_t i = 0; i < room.corners.size(); ++i) EXPECT_LT((back.corners[i] - room.corners[i]).norm(), 1e-8);
+      EXPECT_NEAR(back.ceiling, room.ceiling, 1e-8);
+      EXPECT_NEAR(back.heading, room.heading, 1e-8);
+      EXPECT_LT((back.scanner - room.scanner).norm(), 1e-8);
+      ASSERT_EQ(back.openings.size(), room.openings.size());
+      for (size_t i = 0; i < room.openings.size(); ++i) {
+        EXPECT_EQ(back.openings[i].wall, room.openings[i].wall);
+        EXPECT_NEAR(back.openings[i].from, room.openings[i].from, 1e-8);
+        EXPECT_NEAR(back.openings[i].top, room.openings[i].top, 1e-8);
+      }
+      ASSERT_EQ(back.outside_walls.size(), room.outside_walls.size());
+      for (size_t i = 0; i < room.outside_walls.size(); ++i)
+        EXPECT_LT((back.outside_walls[i].to - room.outside_walls[i].to).norm(), 1e-8);
+      ASSERT_EQ(back.boxes.size(), room.boxes.size());
+      for (size_t i = 0; i < room.boxes.size(); ++i) EXPECT_LT((back.boxes[i].max - room.boxes[i].max).norm(), 1e-8);
+    }
+  EXPECT_GT(outside_walls, 0u);
+  EXPECT_GT(boxes, 0u);
 }
 
 TEST(RoomModel, OutsideWallsAreSeenThroughOpeningsOnly) {

@@ -429,6 +429,73 @@ bool refuse_hidden_corner(const std::vector<Eigen::Vector3f>& points, RoomResult
   return false;
 }
 
+// Whether returns lie well beyond the closed outline along their rays, crossing a wall where no
+// opening is: the outline cuts off part of the room. A built-in cupboard's or a boxed-in
+// stair's front near a corner closes on the side wall as an L's inner wall would (its side
+// towards the corner and the gap behind it out of view); only the side wall seen past the
+// front's end, beyond its line, tells the two apart. Beyond is farther than 4 sigmas of range
+// noise along the ray and kAcross past the crossed wall's line (at grazing incidence an angle
+// error moves a point far along its ray, not across the line), nearer than a recess's depth (a
+// door the openings missed, one half behind a wardrobe, shows a corridor farther off);
+// crossings next to a reflex corner are left (rays grazing it pass the fitted corner's few
+// millimetres either side).
+bool refuse_returns_beyond(const std::vector<Eigen::Vector3f>& points, const RoomSettings& settings,
+                           RoomResult& result) {
+  constexpr double kAlong = 0.15, kAcross = 0.05, kSigmas = 4;  // m, m
+  constexpr double kOpeningMargin = 0.1, kReflexMargin = 0.05;  // m along the wall
+  constexpr double kWallHeights = 0.3;                          // m inside a wall's lowest and highest points
+  constexpr size_t kMinReturns = 8;
+  const auto& corners = result.corners;
+  const size_t count = corners.size();
+  double twice_area = 0;  // signed: its sign is the outline's sense, a reflex corner turns against it
+  for (size_t i = 0; i < count; ++i) twice_area += cross(corners[i], corners[(i + 1) % count]);
+  std::vector<bool> reflex(count);
+  for (size_t i = 0; i < count; ++i)
+    reflex[i] =
+        twice_area * cross(corners[i] - corners[(i + count - 1) % count], corners[(i + 1) % count] - corners[i]) < 0;
+  std::vector<size_t> beyond(count, 0);
+  for (const auto& p : points) {
+    const Eigen::Vector2d xy = p.head<2>().cast<double>();
+    const double range = xy.norm();
+    if (range < 1e-6) continue;
+    const Eigen::Vector2d ray = xy / range;
+    double first = std::numeric_limits<double>::max(), along_wall = 0;
+    size_t crossed = count;
+    for (size_t i = 0; i < count; ++i) {
+      const Eigen::Vector2d edge = corners[(i + 1) % count] - corners[i];
+      const double denominator = cross(ray, edge);
+      if (std::abs(denominator) < 1e-12) continue;
+      const double at = cross(corners[i], edge) / denominator, s = cross(corners[i], ray) / denominator;
+      if (at > 0 && s >= 0 && s <= 1 && at < first) first = at, along_wall = s * edge.norm(), crossed = i;
+    }
+    if (crossed == count) continue;
+    const MeasuredWall& wall = result.walls[crossed];
+    const double length = (corners[(crossed + 1) % count] - corners[crossed]).norm();
+    if (wall.inferred() || p.z() < wall.line.z_low + kWallHeights || p.z() > wall.line.z_high - kWallHeights) continue;
+    const auto& a = settings.adjustment;
+    const double across = wall.line.normal.dot(xy) - wall.line.offset;
+    if (range - first < std::max(kAlong, kSigmas * (a.range_noise + a.range_noise_per_metre * range)) ||
+        across < kAcross || across >= settings.recess_depth)
+      continue;
+    if ((reflex[crossed] && along_wall < kReflexMargin) ||
+        (reflex[(crossed + 1) % count] && along_wall > length - kReflexMargin))
+      continue;
+    const bool in_opening = std::any_of(wall.openings.begin(), wall.openings.end(), [&](const Opening& o) {
+      return along_wall > o.start - kOpeningMargin && along_wall < o.start + o.width + kOpeningMargin;
+    });
+    beyond[crossed] += !in_opening;
+  }
+  for (size_t i = 0; i < count; ++i) {
+    if (beyond[i] < kMinReturns) continue;
+    refuse_outline(std::to_string(beyond[i]) + " returns lie beyond wall " + std::to_string(i + 1) +
+                       " where it has no opening: the outline cuts off part of the room (a side or a recess "
+                       "out of view), the walls do not close it",
+                   result);
+    return true;
+  }
+  return false;
+}
+
 // A surface seen through an opening shallower than `recess_depth` behind it is the back of a
 // recess (an alcove, a bay) whose sides were not found as walls: the outline would cut it off,
 // so the room is refused, saying where. Corridors behind doors are deeper.
@@ -552,6 +619,7 @@ RoomResult measure(const std::vector<Eigen::Vector3f>& input, const RoomSettings
           find_openings(result.walls[i].line, result.corners[i], result.corners[(i + 1) % count], valid,
                         settings.ransac.distance, settings.opening_beyond, settings.opening_min_width);
   if (refuse_recess(settings.recess_depth, result)) return result;
+  if (refuse_returns_beyond(valid, settings, result)) return result;
   for (const auto& wall : result.walls) result.perimeter += wall.length;
   error_histogram(valid, result);
   const auto hidden =

@@ -61,8 +61,6 @@ double widest_gap(const std::vector<double>& values, double low, double high, do
   return widest * slot;
 }
 
-double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
-
 // A wall where the turn around the scanner sees it: the angles of its first and last rays.
 struct SeenWall {
   size_t wall;
@@ -881,6 +879,8 @@ Eigen::Vector2d intersect_lines(const Eigen::Vector2d& na, double oa, const Eige
   lines << na.transpose(), nb.transpose();
   return lines.inverse() * Eigen::Vector2d(oa, ob);
 }
+
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 double polygon_area(const std::vector<Eigen::Vector2d>& corners) {
   double twice = 0;  // shoelace

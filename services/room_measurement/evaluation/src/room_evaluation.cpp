@@ -232,7 +232,10 @@ RoomCase evaluate_room(const sim::GeneratedRoom& generated, const room_measureme
   c.measurement = room_measurement::measure_room(points, settings);
   const auto& result = c.measurement;
   c.points = points.size();
-  if (keep_cloud) c.cloud = std::move(points);
+  if (keep_cloud) {
+    c.cloud = std::move(points);
+    c.room = room;
+  }
   c.status = result.status;
   c.message = result.message;
   c.elapsed_ms = result.elapsed_ms;
@@ -265,7 +268,7 @@ RoomCase evaluate_room(const sim::GeneratedRoom& generated, const room_measureme
 
 std::vector<RoomCase> evaluate_sweep(const SweepOptions& options, const room_measurement::RoomSettings& settings,
                                      const std::function<void(size_t, size_t)>& progress) {
-  const auto& categories = sim::room_categories();
+  const auto& categories = options.categories;
   std::vector<sim::GeneratedRoom> rooms;
   const int per_category = std::max(1, static_cast<int>((options.count + categories.size() - 1) / categories.size()));
   for (auto category : categories)

@@ -167,3 +167,19 @@ TEST(RoomEvaluation, ASliverThroughAFarWallsNoiseIsNoWall) {
   ASSERT_EQ(room.verdict, room_evaluation::Verdict::Measured) << room.message;
   EXPECT_LT(room.max_wall_error(), 0.02);
 }
+
+// A built-in unit's front near a corner, its side towards the corner and the gap behind it out
+// of view, closed on the side wall as an L's inner wall would be (seeds 4 and 7: ok with walls
+// that are not the room's): the side wall is seen past the front's end, beyond its line, and
+// the room is refused. A door half behind a wardrobe, missed as an opening, shows a corridor
+// farther behind its wall than a recess's depth: that room (mixed 35) is still inferred.
+TEST(RoomEvaluation, ReturnsBeyondTheOutlineRefuseIt) {
+  const room_measurement::RoomSettings settings;
+  for (const unsigned seed : {4u, 7u}) {
+    const auto room = room_evaluation::evaluate_room(sim::generate_room(sim::RoomCategory::BuiltIn, seed), settings);
+    EXPECT_EQ(room.verdict, room_evaluation::Verdict::Refused) << "seed " << seed << ": " << room.message;
+    EXPECT_NE(room.message.find("returns lie beyond wall"), std::string::npos) << room.message;
+  }
+  const auto mixed = room_evaluation::evaluate_room(sim::generate_room(sim::RoomCategory::Mixed, 35), settings);
+  EXPECT_EQ(mixed.verdict, room_evaluation::Verdict::Inferred) << "mixed 35: " << mixed.message;
+}

@@ -19,5 +19,7 @@ namespace scanbus::sim {
 // Throws ConfigError naming the file and key.
 RoomModel load_room(const Config& room);
 RoomModel load_room_file(const std::string& path);
+// The room as such a file (load_room reads it back): a generated room made reproducible.
+std::string room_to_yaml(const RoomModel& room);
 
 }  // namespace scanbus::sim

@@ -26,10 +26,13 @@ enum class RoomCategory {
   NearWall,   // the scanner in a corner, 0.5-0.8 m from two walls
   Closet,     // a small room whose floor may be out of the scanner's view
   Mixed,      // doors, furniture and an alcove together
+  BuiltIn,    // a boxed-in stair, shaft or built-in cupboard to the ceiling, deeper than furniture, near a corner
 };
 
 const std::vector<RoomCategory>& room_categories();
 const char* category_name(RoomCategory category);
+// The category called `name` (as category_name gives it); std::invalid_argument for none.
+RoomCategory category_named(const std::string& name);
 
 struct GeneratedRoom {
   RoomCategory category = RoomCategory::Box;

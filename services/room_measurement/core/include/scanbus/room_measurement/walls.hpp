@@ -197,6 +197,7 @@ std::vector<Opening> find_openings(const WallLine& wall, const Eigen::Vector2d& 
                                    double min_width);
 
 double polygon_area(const std::vector<Eigen::Vector2d>& corners);
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b);  // z of the plane vectors' cross product
 
 // How far past their corner, along `wall`, `neighbour` stands kNeighbourClearance off the wall's
 // line: at a shallow corner the neighbour's points lie close to the wall's line well past the

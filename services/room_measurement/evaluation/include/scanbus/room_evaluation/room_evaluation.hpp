@@ -57,6 +57,7 @@ struct RoomCase {
   size_t points = 0;
   double elapsed_ms = 0;
   std::vector<Eigen::Vector3f> cloud;        // the scan, when SweepOptions::keep_clouds
+  sim::RoomModel room;                       // the true room, with it
   room_measurement::RoomResult measurement;  // the whole result, for its plan
 
   double max_wall_error() const;  // m, absolute; 0 without matched walls
@@ -69,6 +70,7 @@ RoomCase evaluate_room(const sim::GeneratedRoom& room, const room_measurement::R
 struct SweepOptions {
   int count = 120;  // rooms, spread evenly over the categories
   unsigned first_seed = 1;
+  std::vector<sim::RoomCategory> categories = sim::room_categories();
   int threads = 0;            // 0: one per core
   bool keep_clouds = false;   // keep each room's scan in its RoomCase (to write it out)
   bool ideal_device = false;  // scan with the device the thesis's equations assume (2 cm noise, no
