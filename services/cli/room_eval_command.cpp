@@ -1,6 +1,7 @@
 // `scanbus eval rooms`: the room measurement on a seeded sweep of simulated rooms.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -35,7 +36,9 @@ void write_cases(const std::string& folder, const std::vector<room_evaluation::R
     cloud_io::write_pcd(name + ".pcd", points);
     room_plan::write_floor_plan(name + "_plan.png", c.measurement, name, c.cloud);
     room_plan::write_floor_plan(name + "_plan.dxf", c.measurement, name);
-    std::ofstream(name + "_room.yaml") << sim::room_to_yaml(c.room);
+    std::ofstream room(name + "_room.yaml");
+    room << sim::room_to_yaml(c.room);
+    if (!room.flush()) throw std::runtime_error("cannot write " + name + "_room.yaml");
   }
 }
 
@@ -180,16 +183,21 @@ void add_eval_rooms_command(CLI::App& eval, int& exit_code) {
   static EvalRoomsOptions options;
   auto* rooms = eval.add_subcommand("rooms",
                                     "Room measurement on a seeded sweep of simulated rooms (doors, windows, "
-                                    "alcoves, L and T shapes, angled walls, furniture, closets), scanned through the "
-                                    "firmware simulator with a device's imperfections; no DDS");
-  rooms->add_option("--count", options.sweep.count, "Rooms, spread over the categories")->check(CLI::Range(1, 100000));
+                                    "alcoves, L and T shapes, angled walls, furniture, closets, built-in units), "
+                                    "scanned through the firmware simulator with a device's imperfections; no DDS");
+  rooms->add_option("--count", options.sweep.count, "Rooms, spread over the categories swept (seeds from --seed on)")
+      ->check(CLI::Range(1, 100000));
   rooms->add_option("--seed", options.sweep.first_seed, "First seed of each category");
   rooms
       ->add_option_function<std::vector<std::string>>(
           "--category",
           [](const std::vector<std::string>& names) {
             options.sweep.categories.clear();
-            for (const auto& name : names) options.sweep.categories.push_back(sim::category_named(name));
+            for (const auto& name : names) {
+              const auto category = sim::category_named(name);
+              auto& chosen = options.sweep.categories;
+              if (std::find(chosen.begin(), chosen.end(), category) == chosen.end()) chosen.push_back(category);
+            }
           },
           "Only these categories (" + category_names() + ")")
       ->check([](const std::string& name) {

@@ -119,10 +119,12 @@ TEST(RoomFile, BadRoomIsAConfigError) {
 }
 
 // A generated room written out reads back as the same room: doors with walls behind them,
-// furniture, a mixed room's alcove.
+// windows, furniture, a mixed room's alcove, a built-in unit.
 TEST(RoomFile, AGeneratedRoomWrittenOutReadsBack) {
+  const auto near = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return (a - b).norm() < 1e-8; };
   size_t outside_walls = 0, boxes = 0;
-  for (const auto category : {RoomCategory::Doors, RoomCategory::Furniture, RoomCategory::Mixed})
+  for (const auto category : {RoomCategory::Doors, RoomCategory::Windows, RoomCategory::Furniture, RoomCategory::Mixed,
+                              RoomCategory::BuiltIn})
     for (unsigned seed = 1; seed <= 3; ++seed) {
       const RoomModel room = generate_room(category, seed).room;
       outside_walls += room.outside_walls.size(), boxes += room.boxes.size();
@@ -131,19 +133,26 @@ TEST(RoomFile, AGeneratedRoomWrittenOutReadsBack) {
       ASSERT_EQ(back.corners.size(), room.corners.size());
       for (size_t i = 0; i < room.corners.size(); ++i) EXPECT_LT((back.corners[i] - room.corners[i]).norm(), 1e-8);
       EXPECT_NEAR(back.ceiling, room.ceiling, 1e-8);
+      EXPECT_NEAR(back.outside, room.outside, 1e-8);
       EXPECT_NEAR(back.heading, room.heading, 1e-8);
-      EXPECT_LT((back.scanner - room.scanner).norm(), 1e-8);
+      EXPECT_TRUE(near(back.scanner, room.scanner));
       ASSERT_EQ(back.openings.size(), room.openings.size());
       for (size_t i = 0; i < room.openings.size(); ++i) {
-        EXPECT_EQ(back.openings[i].wall, room.openings[i].wall);
-        EXPECT_NEAR(back.openings[i].from, room.openings[i].from, 1e-8);
-        EXPECT_NEAR(back.openings[i].top, room.openings[i].top, 1e-8);
+        const Opening &got = back.openings[i], &want = room.openings[i];
+        EXPECT_EQ(got.wall, want.wall);
+        EXPECT_TRUE(near({got.from, got.to, 0}, {want.from, want.to, 0}));
+        EXPECT_TRUE(near({got.bottom, got.top, 0}, {want.bottom, want.top, 0}));
       }
       ASSERT_EQ(back.outside_walls.size(), room.outside_walls.size());
-      for (size_t i = 0; i < room.outside_walls.size(); ++i)
+      for (size_t i = 0; i < room.outside_walls.size(); ++i) {
+        EXPECT_LT((back.outside_walls[i].from - room.outside_walls[i].from).norm(), 1e-8);
         EXPECT_LT((back.outside_walls[i].to - room.outside_walls[i].to).norm(), 1e-8);
+      }
       ASSERT_EQ(back.boxes.size(), room.boxes.size());
-      for (size_t i = 0; i < room.boxes.size(); ++i) EXPECT_LT((back.boxes[i].max - room.boxes[i].max).norm(), 1e-8);
+      for (size_t i = 0; i < room.boxes.size(); ++i) {
+        EXPECT_TRUE(near(back.boxes[i].min, room.boxes[i].min));
+        EXPECT_TRUE(near(back.boxes[i].max, room.boxes[i].max));
+      }
     }
   EXPECT_GT(outside_walls, 0u);
   EXPECT_GT(boxes, 0u);

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <tuple>
 
 namespace scanbus::room_measurement {
@@ -429,67 +430,80 @@ bool refuse_hidden_corner(const std::vector<Eigen::Vector3f>& points, RoomResult
   return false;
 }
 
-// Whether returns lie well beyond the closed outline along their rays, crossing a wall where no
-// opening is: the outline cuts off part of the room. A built-in cupboard's or a boxed-in
-// stair's front near a corner closes on the side wall as an L's inner wall would (its side
-// towards the corner and the gap behind it out of view); only the side wall seen past the
-// front's end, beyond its line, tells the two apart. Beyond is farther than 4 sigmas of range
-// noise along the ray and kAcross past the crossed wall's line (at grazing incidence an angle
-// error moves a point far along its ray, not across the line), nearer than a recess's depth (a
-// door the openings missed, one half behind a wardrobe, shows a corridor farther off);
-// crossings next to a reflex corner are left (rays grazing it pass the fitted corner's few
-// millimetres either side).
+// Whether a wall is seen on past a convex corner of the closed outline, behind its neighbour's
+// line: the outline cuts off part of the room. A built-in cupboard's or a boxed-in stair's
+// front near a corner closes on the side wall as an L's inner wall would (its side towards the
+// corner and the gap behind it out of view); only the side wall, seen through the gap's mouth
+// past the front's end, tells the two apart. Each valid return's ray in the plane is followed to
+// where it leaves the outline. It counts for that wall when it lies beyond the crossing by more
+// than max(kAlong, 4 range-noise sigmas) along the ray and kAcross to recess_depth past the
+// wall's line (at grazing incidence an angle error moves a point far along its ray, not across
+// the line; a corridor behind a door the openings missed lies farther), on the line of the wall
+// at the nearer corner (a set-back door or a step in a wall lies parallel to the wall instead),
+// not through an opening and at the wall's heights. The count needed grows with the cloud's
+// density, as the histogram filter's does (settings.density_reference).
 bool refuse_returns_beyond(const std::vector<Eigen::Vector3f>& points, const RoomSettings& settings,
                            RoomResult& result) {
   constexpr double kAlong = 0.15, kAcross = 0.05, kSigmas = 4;  // m, m
-  constexpr double kOpeningMargin = 0.1, kReflexMargin = 0.05;  // m along the wall
-  constexpr double kWallHeights = 0.3;                          // m inside a wall's lowest and highest points
-  constexpr size_t kMinReturns = 8;
+  constexpr double kOpeningMargin = 0.1, kWallHeights = 0.3;    // m along the wall, m inside its heights
+  constexpr double kMinReturns = 8;                             // in a scan of density_reference points
   const auto& corners = result.corners;
   const size_t count = corners.size();
-  double twice_area = 0;  // signed: its sign is the outline's sense, a reflex corner turns against it
-  for (size_t i = 0; i < count; ++i) twice_area += cross(corners[i], corners[(i + 1) % count]);
-  std::vector<bool> reflex(count);
-  for (size_t i = 0; i < count; ++i)
-    reflex[i] =
-        twice_area * cross(corners[i] - corners[(i + count - 1) % count], corners[(i + 1) % count] - corners[i]) < 0;
-  std::vector<size_t> beyond(count, 0);
+  std::vector<Eigen::Vector2d> edges(count);
+  double twice_area = 0;  // signed: the outline's sense; rays leave where they cross an edge along it
+  for (size_t i = 0; i < count; ++i) {
+    edges[i] = corners[(i + 1) % count] - corners[i];
+    twice_area += cross(corners[i], corners[(i + 1) % count]);
+  }
+  std::vector<bool> convex(count);
+  for (size_t i = 0; i < count; ++i) convex[i] = twice_area * cross(edges[(i + count - 1) % count], edges[i]) > 0;
+  const auto noise = [&](double range) {
+    return settings.adjustment.range_noise + settings.adjustment.range_noise_per_metre * range;
+  };
+  std::vector<std::vector<double>> beyond(count);  // along each wall from corners[i], where they cross it
   for (const auto& p : points) {
     const Eigen::Vector2d xy = p.head<2>().cast<double>();
     const double range = xy.norm();
     if (range < 1e-6) continue;
     const Eigen::Vector2d ray = xy / range;
-    double first = std::numeric_limits<double>::max(), along_wall = 0;
+    double first = std::numeric_limits<double>::max(), s_first = 0;
     size_t crossed = count;
     for (size_t i = 0; i < count; ++i) {
-      const Eigen::Vector2d edge = corners[(i + 1) % count] - corners[i];
-      const double denominator = cross(ray, edge);
+      const double denominator = cross(ray, edges[i]);
       if (std::abs(denominator) < 1e-12) continue;
-      const double at = cross(corners[i], edge) / denominator, s = cross(corners[i], ray) / denominator;
-      if (at > 0 && s >= 0 && s <= 1 && at < first) first = at, along_wall = s * edge.norm(), crossed = i;
+      const double at = cross(corners[i], edges[i]) / denominator, s = cross(corners[i], ray) / denominator;
+      if (at > 0 && s >= 0 && s <= 1 && at < first) first = at, s_first = s, crossed = i;
     }
-    if (crossed == count) continue;
+    // None, or a ray entering the outline (a scanner outside it): nothing is beyond.
+    if (crossed == count || twice_area * cross(ray, edges[crossed]) <= 0) continue;
     const MeasuredWall& wall = result.walls[crossed];
-    const double length = (corners[(crossed + 1) % count] - corners[crossed]).norm();
     if (wall.inferred() || p.z() < wall.line.z_low + kWallHeights || p.z() > wall.line.z_high - kWallHeights) continue;
-    const auto& a = settings.adjustment;
     const double across = wall.line.normal.dot(xy) - wall.line.offset;
-    if (range - first < std::max(kAlong, kSigmas * (a.range_noise + a.range_noise_per_metre * range)) ||
-        across < kAcross || across >= settings.recess_depth)
+    if (range - first < std::max(kAlong, kSigmas * noise(range)) || across < kAcross || across >= settings.recess_depth)
       continue;
-    if ((reflex[crossed] && along_wall < kReflexMargin) ||
-        (reflex[(crossed + 1) % count] && along_wall > length - kReflexMargin))
+    const size_t corner = s_first < 0.5 ? crossed : (crossed + 1) % count;
+    const WallLine& neighbour = result.walls[s_first < 0.5 ? (crossed + count - 1) % count : corner].line;
+    if (!convex[corner] ||
+        std::abs(neighbour.normal.dot(xy) - neighbour.offset) > std::max(settings.ransac.distance, 3 * noise(range)))
       continue;
+    const double along = s_first * edges[crossed].norm();
     const bool in_opening = std::any_of(wall.openings.begin(), wall.openings.end(), [&](const Opening& o) {
-      return along_wall > o.start - kOpeningMargin && along_wall < o.start + o.width + kOpeningMargin;
+      return along > o.start - kOpeningMargin && along < o.start + o.width + kOpeningMargin;
     });
-    beyond[crossed] += !in_opening;
+    if (!in_opening) beyond[crossed].push_back(along);
   }
+  const double density =
+      std::max(1.0, static_cast<double>(points.size()) / std::max<size_t>(1, settings.density_reference));
   for (size_t i = 0; i < count; ++i) {
-    if (beyond[i] < kMinReturns) continue;
-    refuse_outline(std::to_string(beyond[i]) + " returns lie beyond wall " + std::to_string(i + 1) +
-                       " where it has no opening: the outline cuts off part of the room (a side or a recess "
-                       "out of view), the walls do not close it",
+    if (static_cast<double>(beyond[i].size()) < kMinReturns * density) continue;
+    const size_t at_end =
+        std::count_if(beyond[i].begin(), beyond[i].end(), [&](double along) { return along >= edges[i].norm() / 2; });
+    const bool end = 2 * at_end > beyond[i].size();
+    const size_t runs_on = end ? (i + 1) % count : (i + count - 1) % count;
+    refuse_outline("wall " + std::to_string(runs_on + 1) + " is seen on past its corner with wall " +
+                       std::to_string(i + 1) + ", behind that wall's line (" + std::to_string(beyond[i].size()) +
+                       " returns): the outline cuts off part of the room (a side or a recess out of view), "
+                       "the walls do not close it",
                    result);
     return true;
   }

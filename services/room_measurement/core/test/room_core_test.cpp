@@ -169,6 +169,25 @@ TEST(RoomMeasurement, AWallSeenPastItsCornerRefusesTheOutline) {
   EXPECT_NE(result.message.find("runs on past its corner"), std::string::npos) << result.message;
 }
 
+// A closed door set 0.12 m back in its wall, seen obliquely: its returns lie beyond the wall's
+// line (too little for an opening, 0.2 m) and far beyond it along their rays, but parallel to
+// the wall, not on the neighbouring wall's line past a corner: no part of the room is cut off.
+TEST(RoomMeasurement, ADoorSetBackInItsWallCutsNothingOff) {
+  std::mt19937 random(8);
+  std::vector<Eigen::Vector3f> points;
+  add_wall(points, {3, -2}, {3, 2}, random, 0.02f, -1.2f, 1.3f, true);
+  add_wall(points, {3, 2}, {2.4f, 2}, random, 0.02f, -1.2f, 1.3f, true);
+  add_wall(points, {2.4f, 2}, {1.5f, 2}, random, 0.02f, 0.8f, 1.3f, true);  // over the door
+  add_wall(points, {1.5f, 2}, {-3, 2}, random, 0.02f, -1.2f, 1.3f, true);
+  add_wall(points, {2.4f, 2.12f}, {1.5f, 2.12f}, random, 0.02f, -1.2f, 0.8f, true);  // the door
+  add_wall(points, {2.4f, 2}, {2.4f, 2.12f}, random, 0.02f, -1.2f, 0.8f, true);      // its reveal
+  add_wall(points, {-3, 2}, {-3, -2}, random, 0.02f, -1.2f, 1.3f, true);
+  add_wall(points, {-3, -2}, {3, -2}, random, 0.02f, -1.2f, 1.3f, true);
+  const auto result = measure_room(points, RoomSettings{});
+  ASSERT_EQ(result.status, RoomStatus::Ok) << result.message;
+  EXPECT_NEAR(result.area, 24.0, 0.1);
+}
+
 namespace {
 
 // An axis-aligned box's faces the rays of a scan stop on: x0..x1, y0..y1, z0..z1.

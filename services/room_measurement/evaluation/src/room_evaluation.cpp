@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <stdexcept>
 #include <thread>
 
 #include "scanbus/room_evaluation/simulated_scan.hpp"
@@ -269,6 +270,7 @@ RoomCase evaluate_room(const sim::GeneratedRoom& generated, const room_measureme
 std::vector<RoomCase> evaluate_sweep(const SweepOptions& options, const room_measurement::RoomSettings& settings,
                                      const std::function<void(size_t, size_t)>& progress) {
   const auto& categories = options.categories;
+  if (categories.empty()) throw std::invalid_argument("evaluate_sweep: no room categories to sweep");
   std::vector<sim::GeneratedRoom> rooms;
   const int per_category = std::max(1, static_cast<int>((options.count + categories.size() - 1) / categories.size()));
   for (auto category : categories)

@@ -178,7 +178,7 @@ TEST(RoomEvaluation, ReturnsBeyondTheOutlineRefuseIt) {
   for (const unsigned seed : {4u, 7u}) {
     const auto room = room_evaluation::evaluate_room(sim::generate_room(sim::RoomCategory::BuiltIn, seed), settings);
     EXPECT_EQ(room.verdict, room_evaluation::Verdict::Refused) << "seed " << seed << ": " << room.message;
-    EXPECT_NE(room.message.find("returns lie beyond wall"), std::string::npos) << room.message;
+    EXPECT_NE(room.message.find("behind that wall's line"), std::string::npos) << room.message;
   }
   const auto mixed = room_evaluation::evaluate_room(sim::generate_room(sim::RoomCategory::Mixed, 35), settings);
   EXPECT_EQ(mixed.verdict, room_evaluation::Verdict::Inferred) << "mixed 35: " << mixed.message;

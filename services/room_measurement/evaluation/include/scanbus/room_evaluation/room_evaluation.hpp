@@ -70,8 +70,8 @@ RoomCase evaluate_room(const sim::GeneratedRoom& room, const room_measurement::R
 struct SweepOptions {
   int count = 120;  // rooms, spread evenly over the categories
   unsigned first_seed = 1;
-  std::vector<sim::RoomCategory> categories = sim::room_categories();
-  int threads = 0;            // 0: one per core
+  std::vector<sim::RoomCategory> categories = sim::room_categories();  // each once; none is an error
+  int threads = 0;                                                     // 0: one per core
   bool keep_clouds = false;   // keep each room's scan in its RoomCase (to write it out)
   bool ideal_device = false;  // scan with the device the thesis's equations assume (2 cm noise, no
                               // imperfections): tells the room's geometry from the device's errors
