@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 #include <tuple>
 
 namespace scanbus::room_measurement {
@@ -430,18 +431,37 @@ bool refuse_hidden_corner(const std::vector<Eigen::Vector3f>& points, RoomResult
   return false;
 }
 
+// Where a ray from the scanner (the origin) first crosses a closed outline: the wall
+// (corners[wall] to the next corner), how far along it as a share, how far along the ray.
+struct OutlineCrossing {
+  size_t wall = 0;
+  double share = 0, range = std::numeric_limits<double>::max();
+};
+
+std::optional<OutlineCrossing> first_crossing(const std::vector<Eigen::Vector2d>& corners,
+                                              const std::vector<Eigen::Vector2d>& edges, const Eigen::Vector2d& ray) {
+  std::optional<OutlineCrossing> first;
+  for (size_t i = 0; i < corners.size(); ++i) {
+    const double denominator = cross(ray, edges[i]);
+    if (std::abs(denominator) < 1e-12) continue;
+    const double range = cross(corners[i], edges[i]) / denominator, share = cross(corners[i], ray) / denominator;
+    if (range > 0 && share >= 0 && share <= 1 && (!first || range < first->range)) first = {i, share, range};
+  }
+  return first;
+}
+
 // Whether a wall is seen on past a convex corner of the closed outline, behind its neighbour's
 // line: the outline cuts off part of the room. A built-in cupboard's or a boxed-in stair's
 // front near a corner closes on the side wall as an L's inner wall would (its side towards the
 // corner and the gap behind it out of view); only the side wall, seen through the gap's mouth
 // past the front's end, tells the two apart. Each valid return's ray in the plane is followed to
-// where it leaves the outline. It counts for that wall when it lies beyond the crossing by more
-// than max(kAlong, 4 range-noise sigmas) along the ray and kAcross to recess_depth past the
-// wall's line (at grazing incidence an angle error moves a point far along its ray, not across
-// the line; a corridor behind a door the openings missed lies farther), on the line of the wall
-// at the nearer corner (a set-back door or a step in a wall lies parallel to the wall instead),
-// not through an opening and at the wall's heights. The count needed grows with the cloud's
-// density, as the histogram filter's does (settings.density_reference).
+// where it leaves the outline. It counts for the nearer corner of the wall it leaves through
+// when it lies beyond the crossing by more than max(kAlong, 4 range-noise sigmas) along the ray
+// and kAcross to recess_depth past the wall's line (at grazing incidence an angle error moves a
+// point far along its ray, not across the line; a corridor behind a door the openings missed
+// lies farther), on the line of the corner's other wall (a set-back door or a step in a wall
+// lies parallel to the wall instead), not through an opening and at the wall's heights. The
+// count needed grows with the cloud's density, as the histogram filter's does.
 bool refuse_returns_beyond(const std::vector<Eigen::Vector3f>& points, const RoomSettings& settings,
                            RoomResult& result) {
   constexpr double kAlong = 0.15, kAcross = 0.05, kSigmas = 4;  // m, m
@@ -455,53 +475,46 @@ bool refuse_returns_beyond(const std::vector<Eigen::Vector3f>& points, const Roo
     edges[i] = corners[(i + 1) % count] - corners[i];
     twice_area += cross(corners[i], corners[(i + 1) % count]);
   }
-  std::vector<bool> convex(count);
-  for (size_t i = 0; i < count; ++i) convex[i] = twice_area * cross(edges[(i + count - 1) % count], edges[i]) > 0;
   const auto noise = [&](double range) {
     return settings.adjustment.range_noise + settings.adjustment.range_noise_per_metre * range;
   };
-  std::vector<std::vector<double>> beyond(count);  // along each wall from corners[i], where they cross it
+  // Per wall and end (2 i: its start, corners[i]; 2 i + 1: its end), the returns beyond it there.
+  std::vector<size_t> beyond(2 * count, 0);
   for (const auto& p : points) {
     const Eigen::Vector2d xy = p.head<2>().cast<double>();
     const double range = xy.norm();
     if (range < 1e-6) continue;
     const Eigen::Vector2d ray = xy / range;
-    double first = std::numeric_limits<double>::max(), s_first = 0;
-    size_t crossed = count;
-    for (size_t i = 0; i < count; ++i) {
-      const double denominator = cross(ray, edges[i]);
-      if (std::abs(denominator) < 1e-12) continue;
-      const double at = cross(corners[i], edges[i]) / denominator, s = cross(corners[i], ray) / denominator;
-      if (at > 0 && s >= 0 && s <= 1 && at < first) first = at, s_first = s, crossed = i;
-    }
+    const auto crossing = first_crossing(corners, edges, ray);
     // None, or a ray entering the outline (a scanner outside it): nothing is beyond.
-    if (crossed == count || twice_area * cross(ray, edges[crossed]) <= 0) continue;
-    const MeasuredWall& wall = result.walls[crossed];
+    if (!crossing || twice_area * cross(ray, edges[crossing->wall]) <= 0) continue;
+    const size_t i = crossing->wall;
+    const MeasuredWall& wall = result.walls[i];
     if (wall.inferred() || p.z() < wall.line.z_low + kWallHeights || p.z() > wall.line.z_high - kWallHeights) continue;
     const double across = wall.line.normal.dot(xy) - wall.line.offset;
-    if (range - first < std::max(kAlong, kSigmas * noise(range)) || across < kAcross || across >= settings.recess_depth)
+    if (range - crossing->range < std::max(kAlong, kSigmas * noise(range)) || across < kAcross ||
+        across >= settings.recess_depth)
       continue;
-    const size_t corner = s_first < 0.5 ? crossed : (crossed + 1) % count;
-    const WallLine& neighbour = result.walls[s_first < 0.5 ? (crossed + count - 1) % count : corner].line;
-    if (!convex[corner] ||
-        std::abs(neighbour.normal.dot(xy) - neighbour.offset) > std::max(settings.ransac.distance, 3 * noise(range)))
+    const bool at_end = crossing->share >= 0.5;
+    const Eigen::Vector2d& before = edges[at_end ? i : (i + count - 1) % count];
+    const Eigen::Vector2d& after = edges[at_end ? (i + 1) % count : i];
+    const WallLine& other = result.walls[at_end ? (i + 1) % count : (i + count - 1) % count].line;
+    if (twice_area * cross(before, after) <= 0 ||  // a reflex corner: its other wall runs on into the room
+        std::abs(other.normal.dot(xy) - other.offset) > std::max(settings.ransac.distance, 3 * noise(range)))
       continue;
-    const double along = s_first * edges[crossed].norm();
+    const double along = crossing->share * edges[i].norm();
     const bool in_opening = std::any_of(wall.openings.begin(), wall.openings.end(), [&](const Opening& o) {
       return along > o.start - kOpeningMargin && along < o.start + o.width + kOpeningMargin;
     });
-    if (!in_opening) beyond[crossed].push_back(along);
+    beyond[2 * i + at_end] += !in_opening;
   }
   const double density =
       std::max(1.0, static_cast<double>(points.size()) / std::max<size_t>(1, settings.density_reference));
-  for (size_t i = 0; i < count; ++i) {
-    if (static_cast<double>(beyond[i].size()) < kMinReturns * density) continue;
-    const size_t at_end =
-        std::count_if(beyond[i].begin(), beyond[i].end(), [&](double along) { return along >= edges[i].norm() / 2; });
-    const bool end = 2 * at_end > beyond[i].size();
-    const size_t runs_on = end ? (i + 1) % count : (i + count - 1) % count;
+  for (size_t end = 0; end < beyond.size(); ++end) {
+    if (static_cast<double>(beyond[end]) < kMinReturns * density) continue;
+    const size_t wall = end / 2, runs_on = end % 2 ? (wall + 1) % count : (wall + count - 1) % count;
     refuse_outline("wall " + std::to_string(runs_on + 1) + " is seen on past its corner with wall " +
-                       std::to_string(i + 1) + ", behind that wall's line (" + std::to_string(beyond[i].size()) +
+                       std::to_string(wall + 1) + ", behind that wall's line (" + std::to_string(beyond[end]) +
                        " returns): the outline cuts off part of the room (a side or a recess out of view), "
                        "the walls do not close it",
                    result);
