@@ -470,14 +470,11 @@ bool refuse_returns_beyond(const std::vector<Eigen::Vector3f>& points, const Roo
   const auto& corners = result.corners;
   const size_t count = corners.size();
   std::vector<Eigen::Vector2d> edges(count);
-  double twice_area = 0;  // signed: the outline's sense; rays leave where they cross an edge along it
-  for (size_t i = 0; i < count; ++i) {
-    edges[i] = corners[(i + 1) % count] - corners[i];
-    twice_area += cross(corners[i], corners[(i + 1) % count]);
-  }
-  const auto noise = [&](double range) {
-    return settings.adjustment.range_noise + settings.adjustment.range_noise_per_metre * range;
-  };
+  for (size_t i = 0; i < count; ++i) edges[i] = corners[(i + 1) % count] - corners[i];
+  const double sense = signed_area(corners);  // rays leave where they cross an edge along it
+  const auto& a = settings.adjustment;
+  const Band past_crossing{kAlong, kSigmas, a.range_noise, a.range_noise_per_metre};
+  const Band on_other_wall{settings.ransac.distance, 3, a.range_noise, a.range_noise_per_metre};
   // Per wall and end (2 i: its start, corners[i]; 2 i + 1: its end), the returns beyond it there.
   std::vector<size_t> beyond(2 * count, 0);
   for (const auto& p : points) {
@@ -487,20 +484,19 @@ bool refuse_returns_beyond(const std::vector<Eigen::Vector3f>& points, const Roo
     const Eigen::Vector2d ray = xy / range;
     const auto crossing = first_crossing(corners, edges, ray);
     // None, or a ray entering the outline (a scanner outside it): nothing is beyond.
-    if (!crossing || twice_area * cross(ray, edges[crossing->wall]) <= 0) continue;
+    if (!crossing || sense * cross(ray, edges[crossing->wall]) <= 0) continue;
     const size_t i = crossing->wall;
     const MeasuredWall& wall = result.walls[i];
     if (wall.inferred() || p.z() < wall.line.z_low + kWallHeights || p.z() > wall.line.z_high - kWallHeights) continue;
     const double across = wall.line.normal.dot(xy) - wall.line.offset;
-    if (range - crossing->range < std::max(kAlong, kSigmas * noise(range)) || across < kAcross ||
-        across >= settings.recess_depth)
+    if (range - crossing->range < past_crossing.at(range) || across < kAcross || across >= settings.recess_depth)
       continue;
     const bool at_end = crossing->share >= 0.5;
     const Eigen::Vector2d& before = edges[at_end ? i : (i + count - 1) % count];
     const Eigen::Vector2d& after = edges[at_end ? (i + 1) % count : i];
     const WallLine& other = result.walls[at_end ? (i + 1) % count : (i + count - 1) % count].line;
-    if (twice_area * cross(before, after) <= 0 ||  // a reflex corner: its other wall runs on into the room
-        std::abs(other.normal.dot(xy) - other.offset) > std::max(settings.ransac.distance, 3 * noise(range)))
+    if (sense * cross(before, after) <= 0 ||  // a reflex corner: its other wall runs on into the room
+        std::abs(other.normal.dot(xy) - other.offset) > on_other_wall.at(range))
       continue;
     const double along = crossing->share * edges[i].norm();
     const bool in_opening = std::any_of(wall.openings.begin(), wall.openings.end(), [&](const Opening& o) {

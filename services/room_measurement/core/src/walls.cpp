@@ -882,10 +882,12 @@ Eigen::Vector2d intersect_lines(const Eigen::Vector2d& na, double oa, const Eige
 
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 
-double polygon_area(const std::vector<Eigen::Vector2d>& corners) {
+double signed_area(const std::vector<Eigen::Vector2d>& corners) {
   double twice = 0;  // shoelace
   for (size_t i = 0; i < corners.size(); ++i) twice += cross(corners[i], corners[(i + 1) % corners.size()]);
-  return std::abs(twice) / 2;
+  return twice / 2;
 }
+
+double polygon_area(const std::vector<Eigen::Vector2d>& corners) { return std::abs(signed_area(corners)); }
 
 }  // namespace scanbus::room_measurement

@@ -197,6 +197,7 @@ std::vector<Opening> find_openings(const WallLine& wall, const Eigen::Vector2d& 
                                    double min_width);
 
 double polygon_area(const std::vector<Eigen::Vector2d>& corners);
+double signed_area(const std::vector<Eigen::Vector2d>& corners);   // positive counter-clockwise
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b);  // z of the plane vectors' cross product
 
 // How far past their corner, along `wall`, `neighbour` stands kNeighbourClearance off the wall's
