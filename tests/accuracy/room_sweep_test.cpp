@@ -49,7 +49,8 @@ TEST(RoomSweep, WhatHoldsOnTheSweep) {
     EXPECT_GE(s.inferred, 8u);
     EXPECT_LE(s.wrong, 1u) << "rooms given status ok with walls that are not the room's";
     EXPECT_LT(s.median_wall_error, 0.006);
-    EXPECT_GE(s.within_target, 48u) << "rooms with every wall within 1 cm and the area within 0.5 %";
+    // 59 of 81 measured (2026-12-05); 51 without each servo step's pitch error estimated.
+    EXPECT_GE(s.within_target, 56u) << "rooms with every wall within 1 cm and the area within 0.5 %";
     EXPECT_LE(s.ok_over_2cm - s.wrong, 5u) << "rooms with the right walls, one of them more than 2 cm off";
     // The printed sigmas are calibrated: the true error within 1 sigma for 60-75 % of walls,
     // within 2 sigma for at least 93 %.

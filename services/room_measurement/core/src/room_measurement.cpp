@@ -735,6 +735,7 @@ RoomSettings room_settings_from_config(const Config& section) {
   s.adjustment.lever_arm_prior = adjustment.number("lever_arm_prior", s.adjustment.lever_arm_prior, 1e-4, 10);
   s.adjustment.pitch_error_prior_deg =
       adjustment.number("pitch_error_prior", s.adjustment.pitch_error_prior_deg, 1e-3, 45);
+  s.adjustment.step_error_prior_deg = adjustment.number("step_error_prior", s.adjustment.step_error_prior_deg, 0, 45);
   s.adjustment.band = adjustment.number("band", s.adjustment.band, 0.001, 1);
   s.adjustment.band_noise_sigmas = adjustment.number("band_noise_sigmas", s.adjustment.band_noise_sigmas, 0, 10);
   s.adjustment.range_noise = adjustment.number("range_noise", s.adjustment.range_noise, 0, 1);

@@ -87,11 +87,44 @@ void add_row(const Row& row, size_t walls, Block& block) {
   }
 }
 
+// A servo step's own pitch error is an unknown of its bin alone, touching its rows as the pitch
+// offset does (coefficient kStepTerm): these sums let it be eliminated bin by bin (a Schur
+// complement) instead of growing the system by one unknown per step.
+constexpr size_t kStepTerm = 4;
+
+struct StepSums {
+  Eigen::VectorXd with_unknowns;   // g: sum of each row's coefficients times its step coefficient
+  double squares = 0, with_y = 0;  // sums of the step coefficient squared and times y
+
+  explicit StepSums(Eigen::Index g) : with_unknowns(Eigen::VectorXd::Zero(g)) {}
+  void add(const Row& row, size_t walls) {
+    const double r = row.a[kStepTerm];
+    for (size_t i = 0; i < 2 + kDeviceTerms; ++i) with_unknowns[unknown(row, i, walls)] += row.a[i] * r;
+    squares += r * r;
+    with_y += r * row.y;
+  }
+  // The step's unknown, with prior weight `prior`, eliminated from its bin's equations (times
+  // -1: an elimination undone).
+  void eliminate_from(Block& block, double prior, double times = 1) const {
+    const double scale = times / (squares + prior);
+    block.normal -= scale * with_unknowns * with_unknowns.transpose();
+    block.rhs -= scale * with_y * with_unknowns;
+  }
+  void remove(const StepSums& part) {
+    with_unknowns -= part.with_unknowns;
+    squares -= part.squares;
+    with_y -= part.with_y;
+  }
+};
+
 struct System {
-  std::vector<Block> blocks;       // per pitch bin
-  std::vector<Block> wall_shares;  // per wall (the jackknife leaves one out)
-  Eigen::VectorXd prior;           // g: diagonal prior weights
-  Eigen::VectorXd prior_mean;      // g: what they pull towards (an inferred wall's line; zero otherwise)
+  std::vector<Block> blocks;                      // per pitch bin, each servo step's error eliminated
+  std::vector<Block> wall_shares;                 // per wall (the jackknife leaves one out), no step eliminated
+  std::vector<StepSums> steps;                    // per pitch bin
+  std::vector<std::vector<StepSums>> wall_steps;  // per pitch bin, per wall
+  double step_prior = 0;                          // the steps' prior weight; 0: no step unknowns
+  Eigen::VectorXd prior;                          // g: diagonal prior weights
+  Eigen::VectorXd prior_mean;                     // g: what they pull towards (an inferred wall's line; zero otherwise)
 };
 
 System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings& settings, double variance) {
@@ -99,11 +132,24 @@ System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings
   const Block zero{Eigen::MatrixXd::Zero(g, g), Eigen::VectorXd::Zero(g)};
   System system;
   system.wall_shares.assign(count, zero);
+  const StepSums no_step(static_cast<Eigen::Index>(g));
   for_each_row(walls, settings.pitch_bin_deg, [&](const Row& row) {
-    if (row.bin == system.blocks.size()) system.blocks.push_back(zero);
+    if (row.bin == system.blocks.size()) {
+      system.blocks.push_back(zero);
+      system.steps.push_back(no_step);
+      system.wall_steps.emplace_back(count, no_step);
+    }
     add_row(row, count, system.blocks[row.bin]);
     add_row(row, count, system.wall_shares[row.wall]);
+    system.steps[row.bin].add(row, count);
+    system.wall_steps[row.bin][row.wall].add(row, count);
   });
+  if (settings.step_error_prior_deg > 0) {
+    const double sigma = settings.step_error_prior_deg * kDegree;
+    system.step_prior = variance / (sigma * sigma);
+    for (size_t b = 0; b < system.blocks.size(); ++b)
+      system.steps[b].eliminate_from(system.blocks[b], system.step_prior);
+  }
   system.prior = Eigen::VectorXd::Zero(g);
   system.prior_mean = Eigen::VectorXd::Zero(g);
   for (size_t k = 0; k < count; ++k) {
@@ -229,6 +275,20 @@ Spread bootstrap_spread(const System& system, const std::vector<WallLine>& walls
   return variance_of(outlines, walls.size(), 1.0);
 }
 
+// The full fit's equations with wall `k`'s points taken out, the steps' errors eliminated
+// again from what is left (the wall's points no longer inform them).
+Block without_wall(const System& system, const Block& total, size_t k) {
+  Block others{total.normal - system.wall_shares[k].normal, total.rhs - system.wall_shares[k].rhs};
+  if (system.step_prior <= 0) return others;
+  for (size_t b = 0; b < system.steps.size(); ++b) {
+    system.steps[b].eliminate_from(others, system.step_prior, -1);
+    StepSums rest = system.steps[b];
+    rest.remove(system.wall_steps[b][k]);
+    rest.eliminate_from(others, system.step_prior);
+  }
+  return others;
+}
+
 // How well the walls agree on the device's errors: a jackknife over the seen walls, each
 // left out of the device terms' estimate in turn (its own line pinned where the full fit put
 // it), then every wall re-solved with the device terms held at that estimate. Where a few
@@ -244,8 +304,8 @@ Spread wall_jackknife_spread(const System& system, const std::vector<WallLine>& 
   std::vector<Outline> outlines;
   for (size_t k = 0; k < count; ++k) {
     if (walls[k].inferred) continue;
-    const Block& share = system.wall_shares[k];
-    const Eigen::VectorXd others = pinned(total.normal - share.normal, total.rhs - share.rhs, 2 * k, 2 * k + 2, x);
+    const Block others_equations = without_wall(system, total, k);
+    const Eigen::VectorXd others = pinned(others_equations.normal, others_equations.rhs, 2 * k, 2 * k + 2, x);
     outlines.push_back(outline(walls, pinned(total.normal, total.rhs, device, g, others)));
   }
   const double n = static_cast<double>(outlines.size());

@@ -45,6 +45,9 @@ struct AdjustmentSettings {
   double lever_arm_prior = 0.02;       // m: the optical centre's height over the pitch axis, uncalibrated
                                        // (the LiDAR's housing is 4 cm high)
   double pitch_error_prior_deg = 0.5;  // a standard servo's offset: half its 1-degree resolution
+  double step_error_prior_deg = 0.5;   // each servo step's own pitch error (the same for every ray of the
+                                       // step): a commanded angle is reached to the servo's 1-degree
+                                       // resolution; 0 leaves the steps' errors to the bootstrap alone
   double yaw_error_prior_deg = 0.3;    // the pole's once-per-turn yaw error, each of its sine and cosine
                                        // parts: a printed gear's runout (0.1 mm on a 20 mm pitch radius)
   int bootstrap = 100;                 // replicates; 0 skips the uncertainty
