@@ -88,9 +88,10 @@ void add_row(const Row& row, size_t walls, Block& block) {
 }
 
 // A servo step's own pitch error is an unknown of its bin alone, touching its rows as the pitch
-// offset does (coefficient kStepTerm): these sums let it be eliminated bin by bin (a Schur
-// complement) instead of growing the system by one unknown per step.
-constexpr size_t kStepTerm = 4;
+// offset does (Row::a's coefficient kPitchOffsetCoefficient, in for_each_row's order: offset,
+// turn, range bias, lever arm, pitch offset, yaw sine, yaw cosine): these sums let it be
+// eliminated bin by bin (a Schur complement) instead of growing the system by one unknown per step.
+constexpr size_t kPitchOffsetCoefficient = 4;
 
 struct StepSums {
   Eigen::VectorXd with_unknowns;   // g: sum of each row's coefficients times its step coefficient
@@ -98,17 +99,18 @@ struct StepSums {
 
   explicit StepSums(Eigen::Index g) : with_unknowns(Eigen::VectorXd::Zero(g)) {}
   void add(const Row& row, size_t walls) {
-    const double r = row.a[kStepTerm];
+    const double r = row.a[kPitchOffsetCoefficient];
     for (size_t i = 0; i < 2 + kDeviceTerms; ++i) with_unknowns[unknown(row, i, walls)] += row.a[i] * r;
     squares += r * r;
     with_y += r * row.y;
   }
-  // The step's unknown, with prior weight `prior`, eliminated from its bin's equations (times
-  // -1: an elimination undone).
-  void eliminate_from(Block& block, double prior, double times = 1) const {
-    const double scale = times / (squares + prior);
-    block.normal -= scale * with_unknowns * with_unknowns.transpose();
-    block.rhs -= scale * with_y * with_unknowns;
+  // The step's unknown, with prior weight `prior`, eliminated from its bin's equations.
+  void eliminate_from(Block& block, double prior) const { add_elimination(block, -1 / (squares + prior)); }
+  // An elimination from `block` undone.
+  void restore_to(Block& block, double prior) const { add_elimination(block, 1 / (squares + prior)); }
+  void add_elimination(Block& block, double scale) const {
+    block.normal += scale * with_unknowns * with_unknowns.transpose();
+    block.rhs += scale * with_y * with_unknowns;
   }
   void remove(const StepSums& part) {
     with_unknowns -= part.with_unknowns;
@@ -144,7 +146,8 @@ System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings
     system.steps[row.bin].add(row, count);
     system.wall_steps[row.bin][row.wall].add(row, count);
   });
-  if (settings.step_error_prior_deg > 0) {
+  // Held at zero with the device terms: the steps would take up a common pitch offset.
+  if (settings.step_error_prior_deg > 0 && settings.estimate_device) {
     const double sigma = settings.step_error_prior_deg * kDegree;
     system.step_prior = variance / (sigma * sigma);
     for (size_t b = 0; b < system.blocks.size(); ++b)
@@ -281,7 +284,8 @@ Block without_wall(const System& system, const Block& total, size_t k) {
   Block others{total.normal - system.wall_shares[k].normal, total.rhs - system.wall_shares[k].rhs};
   if (system.step_prior <= 0) return others;
   for (size_t b = 0; b < system.steps.size(); ++b) {
-    system.steps[b].eliminate_from(others, system.step_prior, -1);
+    if (system.wall_steps[b][k].squares == 0) continue;  // the wall has no rays in this step
+    system.steps[b].restore_to(others, system.step_prior);
     StepSums rest = system.steps[b];
     rest.remove(system.wall_steps[b][k]);
     rest.eliminate_from(others, system.step_prior);

@@ -5,10 +5,9 @@
 // pitch error move it across, and a once-per-turn yaw error of the pole (a gear's runout)
 // turns it about the pole by an angle that varies with yaw. All are linear in small
 // corrections, so one least-squares adjustment estimates each wall's line (offset and a small
-// turn) and the device terms from the walls' points (a pitch error per servo step made the
-// walls of small rooms ill-determined: the steps' own errors are left to the bootstrap). A
-// point's ray follows from its position: the scanner is at the origin and its pitch counts
-// from the vertical (the thesis's eq. 3.10-3.12).
+// turn) and the device terms from the walls' points, and each servo step's own pitch error
+// (shared by the step's rays) with a prior, eliminated step by step. A point's ray follows from its position: the
+// scanner is at the origin and its pitch counts from the vertical (the thesis's eq. 3.10-3.12).
 //
 // Uncertainty: a bootstrap over pitch bins (whole revolutions, whose errors are shared) for
 // noise and neighbouring points' correlation, or a jackknife over the walls for how far the
@@ -39,15 +38,17 @@ struct AdjustmentSettings {
   // thesis quotes its reference [2] (2.12 cm at 1.5 m, 3.51 cm at 3 m).
   double range_noise = 0.0073;            // m
   double range_noise_per_metre = 0.0093;  // m per m of range
-  double pitch_bin_deg = 1.0;             // the bootstrap's unit: rays within a bin share a servo step's error
+  double pitch_bin_deg = 1.0;             // one servo step: its rays share the step's own pitch error (one
+                                          // unknown per bin) and the bootstrap resamples whole bins
   // The device's errors, one sigma (priors when estimated; added to the sigmas when not):
   double range_bias_prior = 0.01;      // m: a LIDAR-Lite v3 offset-calibrated at one distance, to its 1 cm resolution
   double lever_arm_prior = 0.02;       // m: the optical centre's height over the pitch axis, uncalibrated
                                        // (the LiDAR's housing is 4 cm high)
   double pitch_error_prior_deg = 0.5;  // a standard servo's offset: half its 1-degree resolution
   double step_error_prior_deg = 0.5;   // each servo step's own pitch error (the same for every ray of the
-                                       // step): a commanded angle is reached to the servo's 1-degree
-                                       // resolution; 0 leaves the steps' errors to the bootstrap alone
+                                       // step): half the servo's 1-degree resolution, as the offset's;
+                                       // 0 leaves the steps' errors to the bootstrap alone; held at zero
+                                       // with the device terms when they are not estimated
   double yaw_error_prior_deg = 0.3;    // the pole's once-per-turn yaw error, each of its sine and cosine
                                        // parts: a printed gear's runout (0.1 mm on a 20 mm pitch radius)
   int bootstrap = 100;                 // replicates; 0 skips the uncertainty
