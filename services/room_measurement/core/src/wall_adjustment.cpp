@@ -112,46 +112,51 @@ struct StepSums {
     block.normal += scale * with_unknowns * with_unknowns.transpose();
     block.rhs += scale * with_y * with_unknowns;
   }
-  void remove(const StepSums& part) {
-    with_unknowns -= part.with_unknowns;
-    squares -= part.squares;
-    with_y -= part.with_y;
+  void add(const StepSums& part, double sign = 1) {
+    with_unknowns += sign * part.with_unknowns;
+    squares += sign * part.squares;
+    with_y += sign * part.with_y;
   }
 };
 
 struct System {
   std::vector<Block> blocks;                      // per pitch bin, each servo step's error eliminated
   std::vector<Block> wall_shares;                 // per wall (the jackknife leaves one out), no step eliminated
-  std::vector<StepSums> steps;                    // per pitch bin
-  std::vector<std::vector<StepSums>> wall_steps;  // per pitch bin, per wall
+  std::vector<std::vector<StepSums>> wall_steps;  // per pitch bin, per wall; empty without step unknowns
   double step_prior = 0;                          // the steps' prior weight; 0: no step unknowns
   Eigen::VectorXd prior;                          // g: diagonal prior weights
   Eigen::VectorXd prior_mean;                     // g: what they pull towards (an inferred wall's line; zero otherwise)
 };
+
+// Pitch bin `b`'s sums over every wall.
+StepSums step_sums(const System& system, size_t b) {
+  StepSums sums(system.wall_steps[b].front().with_unknowns.size());
+  for (const auto& wall : system.wall_steps[b]) sums.add(wall);
+  return sums;
+}
 
 System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings& settings, double variance) {
   const size_t count = walls.size(), g = 2 * count + kDeviceTerms;
   const Block zero{Eigen::MatrixXd::Zero(g, g), Eigen::VectorXd::Zero(g)};
   System system;
   system.wall_shares.assign(count, zero);
+  // Held at zero with the device terms: the steps would take up a common pitch offset.
+  const bool step_unknowns = settings.step_error_prior_deg > 0 && settings.estimate_device;
   const StepSums no_step(static_cast<Eigen::Index>(g));
   for_each_row(walls, settings.pitch_bin_deg, [&](const Row& row) {
     if (row.bin == system.blocks.size()) {
       system.blocks.push_back(zero);
-      system.steps.push_back(no_step);
-      system.wall_steps.emplace_back(count, no_step);
+      if (step_unknowns) system.wall_steps.emplace_back(count, no_step);
     }
     add_row(row, count, system.blocks[row.bin]);
     add_row(row, count, system.wall_shares[row.wall]);
-    system.steps[row.bin].add(row, count);
-    system.wall_steps[row.bin][row.wall].add(row, count);
+    if (step_unknowns) system.wall_steps[row.bin][row.wall].add(row, count);
   });
-  // Held at zero with the device terms: the steps would take up a common pitch offset.
-  if (settings.step_error_prior_deg > 0 && settings.estimate_device) {
+  if (step_unknowns) {
     const double sigma = settings.step_error_prior_deg * kDegree;
     system.step_prior = variance / (sigma * sigma);
     for (size_t b = 0; b < system.blocks.size(); ++b)
-      system.steps[b].eliminate_from(system.blocks[b], system.step_prior);
+      step_sums(system, b).eliminate_from(system.blocks[b], system.step_prior);
   }
   system.prior = Eigen::VectorXd::Zero(g);
   system.prior_mean = Eigen::VectorXd::Zero(g);
@@ -283,11 +288,11 @@ Spread bootstrap_spread(const System& system, const std::vector<WallLine>& walls
 Block without_wall(const System& system, const Block& total, size_t k) {
   Block others{total.normal - system.wall_shares[k].normal, total.rhs - system.wall_shares[k].rhs};
   if (system.step_prior <= 0) return others;
-  for (size_t b = 0; b < system.steps.size(); ++b) {
+  for (size_t b = 0; b < system.wall_steps.size(); ++b) {
     if (system.wall_steps[b][k].squares == 0) continue;  // the wall has no rays in this step
-    system.steps[b].restore_to(others, system.step_prior);
-    StepSums rest = system.steps[b];
-    rest.remove(system.wall_steps[b][k]);
+    StepSums rest = step_sums(system, b);
+    rest.restore_to(others, system.step_prior);
+    rest.add(system.wall_steps[b][k], -1);
     rest.eliminate_from(others, system.step_prior);
   }
   return others;

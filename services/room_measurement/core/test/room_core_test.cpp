@@ -600,6 +600,14 @@ std::vector<WallLine> scanned_box_walls(double bias, double pitch_error, double 
   return walls;
 }
 
+// The farthest of the adjusted walls' lengths from scanned_box_walls' box (5 x 3.5 m).
+double worst_length_error(const AdjustedWalls& adjusted) {
+  const double truth[4] = {5.0, 3.5, 5.0, 3.5};
+  double worst = 0;
+  for (size_t i = 0; i < 4; ++i) worst = std::max(worst, std::abs(adjusted.lengths[i] - truth[i]));
+  return worst;
+}
+
 }  // namespace
 
 TEST(WallAdjustment, RecoversRangeBiasLeverArmAndPitchErrors) {
@@ -651,10 +659,7 @@ TEST(WallAdjustment, RecoversAOncePerTurnYawError) {  // a printed gear's runout
   EXPECT_NEAR(adjusted.yaw_error.y(), runout * degree * std::sin(1.0), 0.03 * degree);
 
   settings.estimate_device = false;  // held at zero: the walls bend and the lengths go off
-  const auto held = adjust_walls(scanned_box_walls(0.005, 0.0, 0.0, 0.0, runout), settings);
-  double worst = 0;
-  for (size_t i = 0; i < 4; ++i) worst = std::max(worst, std::abs(held.lengths[i] - truth[i]));
-  EXPECT_GT(worst, 0.005);
+  EXPECT_GT(worst_length_error(adjust_walls(scanned_box_walls(0.005, 0.0, 0.0, 0.0, runout), settings)), 0.005);
 }
 
 // A servo reaches each commanded angle to its resolution, so every step has its own pitch
@@ -663,16 +668,10 @@ TEST(WallAdjustment, RecoversAOncePerTurnYawError) {  // a printed gear's runout
 TEST(WallAdjustment, ServoStepsOwnPitchErrorsDoNotBendTheWalls) {
   AdjustmentSettings settings;
   settings.bootstrap = 0;
-  const double truth[4] = {5.0, 3.5, 5.0, 3.5};
-  auto worst_error = [&](const AdjustedWalls& adjusted) {
-    double worst = 0;
-    for (size_t i = 0; i < 4; ++i) worst = std::max(worst, std::abs(adjusted.lengths[i] - truth[i]));
-    return worst;
-  };
   const auto walls = scanned_box_walls(0.0, 0.0, 0.0, 0.0, 0.0, 0.5);
-  const double with_steps = worst_error(adjust_walls(walls, settings));
+  const double with_steps = worst_length_error(adjust_walls(walls, settings));
   settings.step_error_prior_deg = 0;
-  const double without = worst_error(adjust_walls(walls, settings));
+  const double without = worst_length_error(adjust_walls(walls, settings));
   EXPECT_LT(with_steps, 0.002);
   EXPECT_LT(with_steps, without / 3) << "worst wall error with the steps' errors " << with_steps << " m, without "
                                      << without << " m";

@@ -6,8 +6,9 @@
 // turns it about the pole by an angle that varies with yaw. All are linear in small
 // corrections, so one least-squares adjustment estimates each wall's line (offset and a small
 // turn) and the device terms from the walls' points, and each servo step's own pitch error
-// (shared by the step's rays) with a prior, eliminated step by step. A point's ray follows from its position: the
-// scanner is at the origin and its pitch counts from the vertical (the thesis's eq. 3.10-3.12).
+// (shared by the step's rays) with a prior, eliminated step by step. A point's ray follows
+// from its position: the scanner is at the origin and its pitch counts from the vertical (the
+// thesis's eq. 3.10-3.12).
 //
 // Uncertainty: a bootstrap over pitch bins (whole revolutions, whose errors are shared) for
 // noise and neighbouring points' correlation, or a jackknife over the walls for how far the
