@@ -742,6 +742,10 @@ RoomSettings room_settings_from_config(const Config& section) {
   s.adjustment.range_noise_per_metre =
       adjustment.number("range_noise_per_metre", s.adjustment.range_noise_per_metre, 0, 1);
   s.adjustment.yaw_error_prior_deg = adjustment.number("yaw_error_prior", s.adjustment.yaw_error_prior_deg, 1e-3, 45);
+  s.adjustment.calibrated_range_bias = adjustment.number("range_bias", s.adjustment.calibrated_range_bias, -1, 1);
+  s.adjustment.calibrated_lever_arm = adjustment.number("lever_arm", s.adjustment.calibrated_lever_arm, -1, 1);
+  s.adjustment.calibrated_pitch_offset_deg =
+      adjustment.number("pitch_offset", s.adjustment.calibrated_pitch_offset_deg, -45, 45);
 
   s.adjustment.bootstrap = static_cast<int>(adjustment.integer("bootstrap", s.adjustment.bootstrap, 0, 100000));
   s.opening_min_width = section.number("opening_min_width", s.opening_min_width, 0.01, 100);

@@ -31,6 +31,12 @@ std::array<double, kDeviceTerms> device_sigmas(const AdjustmentSettings& setting
   return {settings.range_bias_prior, settings.lever_arm_prior, settings.pitch_error_prior_deg * kDegree, yaw, yaw};
 }
 
+// What the device terms' priors pull towards, in the unknowns' order: a calibration's values.
+std::array<double, kDeviceTerms> device_centres(const AdjustmentSettings& settings) {
+  return {settings.calibrated_range_bias, settings.calibrated_lever_arm, settings.calibrated_pitch_offset_deg * kDegree,
+          0, 0};
+}
+
 // Every usable point of the walls as an equation, linearised at the walls' current lines,
 // handed to `use` (a million points' rows would not fit the cache). Bins group a servo step's
 // rays (the same reported pitch): they share its error; numbered as they first appear.
@@ -166,7 +172,9 @@ System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings
     system.prior_mean[2 * k] = walls[k].offset;
     system.prior[2 * k + 1] = kHeld;
   }
-  if (!settings.estimate_device) {  // held at zero
+  const auto centres = device_centres(settings);
+  for (size_t term = 0; term < kDeviceTerms; ++term) system.prior_mean[2 * count + term] = centres[term];
+  if (!settings.estimate_device) {  // held at the calibration's values
     system.prior.tail(kDeviceTerms).setConstant(kHeld);
     return system;
   }
@@ -356,9 +364,10 @@ Spread prior_spread(const System& system, const std::vector<WallLine>& walls, co
 bool device_within_priors(const Eigen::VectorXd& x, size_t walls, const AdjustmentSettings& settings) {
   constexpr double kPriorSigmas = 3;
   const auto sigmas = device_sigmas(settings);
+  const auto centres = device_centres(settings);
   const double* device = x.data() + 2 * walls;
   for (size_t i = 0; i < 3; ++i)
-    if (std::abs(device[i]) > kPriorSigmas * sigmas[i]) return false;
+    if (std::abs(device[i] - centres[i]) > kPriorSigmas * sigmas[i]) return false;
   return std::hypot(device[3], device[4]) <= kPriorSigmas * sigmas[3];
 }
 

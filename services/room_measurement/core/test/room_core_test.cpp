@@ -550,6 +550,12 @@ TEST(RoomSettings, FromConfigWithValidation) {
   EXPECT_EQ(settings.voxel_leaf, 0.0);
   EXPECT_EQ(settings.histogram.bins, 50);
   EXPECT_NO_THROW(config.check_all_read());
+  const auto calibrated = scanbus::Config::parse(
+      "room_measurement:\n  adjustment: {range_bias: -0.012, lever_arm: 0.02, pitch_offset: 0.3}\n", "r.yaml");
+  const auto unit = room_settings_from_config(calibrated.section("room_measurement")).adjustment;
+  EXPECT_EQ(unit.calibrated_range_bias, -0.012);
+  EXPECT_EQ(unit.calibrated_lever_arm, 0.02);
+  EXPECT_EQ(unit.calibrated_pitch_offset_deg, 0.3);
   const auto bad = scanbus::Config::parse("room_measurement:\n  ransac: {distance: -1}\n", "r.yaml");
   EXPECT_THROW(room_settings_from_config(bad.section("room_measurement")), scanbus::ConfigError);
 }
@@ -643,6 +649,35 @@ TEST(WallAdjustment, DeviceTermsBeyondThreeSigmasOfTheirPriorsAreNotEstimated) {
   const auto within = adjust_walls(scanned_box_walls(0.025, 0.0, 0.0), settings);  // 2.5 sigmas: estimated
   EXPECT_FALSE(within.device_held);
   EXPECT_NEAR(within.range_bias, -0.025, 0.002);
+}
+
+// A unit 4 cm off in range (beyond three sigmas of an uncalibrated LIDAR-Lite's prior) has its
+// terms held and its walls go off; calibrated once (here from a fit with wide priors), its
+// terms are estimated about the calibration, or held there.
+TEST(WallAdjustment, ACalibratedUnitIsFittedAboutItsCalibration) {
+  const auto walls = scanned_box_walls(0.04, 0.3, 0.02);
+  AdjustmentSettings settings;
+  settings.bootstrap = 0;
+  const auto uncalibrated = adjust_walls(walls, settings);
+  EXPECT_TRUE(uncalibrated.device_held);
+  EXPECT_GT(worst_length_error(uncalibrated), 0.02);
+
+  AdjustmentSettings wide = settings;
+  wide.range_bias_prior = wide.lever_arm_prior = 0.1;
+  wide.pitch_error_prior_deg = 2;
+  const auto calibration = adjust_walls(walls, wide);
+  ASSERT_FALSE(calibration.device_held);
+  settings.calibrated_range_bias = calibration.range_bias;
+  settings.calibrated_lever_arm = calibration.lever_arm;
+  settings.calibrated_pitch_offset_deg = calibration.pitch_offset * 180 / M_PI;
+  settings.range_bias_prior = 0.002;
+  const auto calibrated = adjust_walls(walls, settings);
+  EXPECT_FALSE(calibrated.device_held);
+  EXPECT_LT(worst_length_error(calibrated), 0.002);
+  EXPECT_NEAR(calibrated.range_bias, -0.04, 0.002);
+
+  settings.estimate_device = false;  // held at the calibration
+  EXPECT_LT(worst_length_error(adjust_walls(walls, settings)), 0.002);
 }
 
 TEST(WallAdjustment, RecoversAOncePerTurnYawError) {  // a printed gear's runout

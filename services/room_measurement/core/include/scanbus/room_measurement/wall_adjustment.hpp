@@ -52,7 +52,14 @@ struct AdjustmentSettings {
                                        // with the device terms when they are not estimated
   double yaw_error_prior_deg = 0.3;    // the pole's once-per-turn yaw error, each of its sine and cosine
                                        // parts: a printed gear's runout (0.1 mm on a 20 mm pitch radius)
-  int bootstrap = 100;                 // replicates; 0 skips the uncertainty
+  // A unit's own terms as its calibration found them (the corrections `scanbus room measure`
+  // prints, pooled over scans; the priors above then say how well it found them): estimated
+  // about these, or held at them. Zero: an uncalibrated unit. The yaw error has none: its phase
+  // follows where the pole stood at power-up.
+  double calibrated_range_bias = 0;        // m, added to the range
+  double calibrated_lever_arm = 0;         // m
+  double calibrated_pitch_offset_deg = 0;  // added to the reported pitch
+  int bootstrap = 100;                     // replicates; 0 skips the uncertainty
 };
 
 struct AdjustedWalls {
