@@ -1,9 +1,13 @@
+#include <cstdio>
 #include <iostream>
+#include <stdexcept>
+#include <vector>
 
 #include "commands.hpp"
 #include "room_measurement_node.hpp"
 #include "room_report.hpp"
 #include "scanbus/cloud_io/cloud_files.hpp"
+#include "scanbus/room_measurement/device_calibration.hpp"
 #include "scanbus/room_plan/floor_plan.hpp"
 
 namespace scanbus::cli {
@@ -45,6 +49,89 @@ int run_measure(const RoomOptions& options) {
   return room.status == room_measurement::RoomStatus::Ok ? 0 : 1;
 }
 
+struct CalibrateOptions {
+  std::vector<std::string> files;
+  std::string unit = "m";
+  std::string config;
+  bool json = false;
+};
+
+// The calibration as the config lines that apply it.
+std::string calibration_yaml(const room_measurement::AdjustmentSettings& a, size_t scans) {
+  char text[640];
+  std::snprintf(text, sizeof text,
+                "room_measurement:\n  adjustment:  # this unit, calibrated on %zu scans\n"
+                "    range_bias: %.5f\n    lever_arm: %.5f\n    pitch_offset: %.4f\n"
+                "    range_bias_prior: %.5f\n    lever_arm_prior: %.5f\n    pitch_error_prior: %.4f\n",
+                scans, a.calibrated_range_bias, a.calibrated_lever_arm, a.calibrated_pitch_offset_deg,
+                a.range_bias_prior, a.lever_arm_prior, a.pitch_error_prior_deg);
+  return text;
+}
+
+// Exit codes: 0 calibrated, 1 too few scans with the device terms applied, 2 bad input.
+int run_calibrate(const CalibrateOptions& options) {
+  room_measurement::RoomSettings settings;
+  try {
+    if (!options.config.empty()) settings = room_measurement::room_settings_from_file(options.config);
+  } catch (const ConfigError& e) {
+    std::cerr << "scanbus room calibrate: config error: " << e.what() << "\n";
+    return 2;
+  }
+  const double scale = cloud_io::metres_per_unit(options.unit);
+  std::vector<room_measurement::DeviceEstimate> scans;
+  nlohmann::json files = nlohmann::json::array();
+  bool bad_file = false;
+  for (const auto& file : options.files) {
+    room_measurement::RoomResult room;
+    try {
+      room = room_measurement::measure_room(cloud_io::read_cloud(file, scale), settings);
+    } catch (const cloud_io::CloudFileError& e) {  // the other scans still count
+      bad_file = true;
+      files.push_back({{"file", file}, {"status", "input_error"}, {"message", e.what()}});
+      if (!options.json) std::cerr << "scanbus room calibrate: " << e.what() << "\n";
+      continue;
+    }
+    const char* device = room_measurement::device_state_name(room.device.state);
+    files.push_back({{"file", file}, {"status", room_measurement::status_name(room.status)}, {"device", device}});
+    if (!options.json)
+      std::cout << file << ": " << room_measurement::status_name(room.status) << ", device " << device << "\n";
+    if (room.status == room_measurement::RoomStatus::Ok) scans.push_back(room.device);
+  }
+  room_measurement::UnitCalibration calibration;
+  try {
+    calibration = room_measurement::calibrate_unit(scans);
+  } catch (const std::invalid_argument& e) {
+    if (options.json) {
+      std::cout << nlohmann::json{{"files", files}, {"status", "too_few_scans"}, {"message", e.what()}} << "\n";
+    } else {
+      std::cerr << "scanbus room calibrate: " << e.what() << "\n";
+    }
+    return bad_file ? 2 : 1;
+  }
+  room_measurement::apply_calibration(calibration, settings.adjustment);
+  const auto yaml = calibration_yaml(settings.adjustment, calibration.scans);
+  if (options.json) {
+    std::cout << nlohmann::json{{"files", files},
+                                {"status", "ok"},
+                                {"scans", calibration.scans},
+                                {"scatter", calibration.scatter},
+                                {"range_bias_m", calibration.range_bias},
+                                {"range_bias_sigma_m", calibration.range_bias_sigma},
+                                {"lever_arm_m", calibration.lever_arm},
+                                {"lever_arm_sigma_m", calibration.lever_arm_sigma},
+                                {"pitch_offset_rad", calibration.pitch_offset},
+                                {"pitch_offset_sigma_rad", calibration.pitch_offset_sigma},
+                                {"config", yaml}}
+              << "\n";
+  } else {
+    std::cout << "\nthe unit's own terms from " << calibration.scans
+              << " scans (the sigmas from their information and disagreement; the servo's own error at each step, the "
+                 "same in every scan, is not in them); for its config:\n\n"
+              << yaml;
+  }
+  return bad_file ? 2 : 0;
+}
+
 }  // namespace
 
 void add_room_command(CLI::App& app, int& exit_code) {
@@ -59,6 +146,20 @@ void add_room_command(CLI::App& app, int& exit_code) {
   measure->add_flag("--json", options.json, "Print one JSON object");
   measure->add_option("--plan", options.plan, "Draw the floor plan to this .png, .svg or .dxf (CAD, metres)");
   on_run(*measure, exit_code, [] { return run_measure(options); });
+
+  static CalibrateOptions calibrate_options;
+  auto* calibrate = room->add_subcommand(
+      "calibrate",
+      "Calibrate a scanning unit's range bias, lever arm and servo offset from several of its room scans (different "
+      "rooms or spots: walls seen from many angles); prints the config lines that apply it");
+  calibrate->add_option("files", calibrate_options.files, "Cloud files of one unit's scans: .pcd, .ply, .xyz")
+      ->required();
+  calibrate->add_option("--unit", calibrate_options.unit, "Unit of the files' coordinates")
+      ->check(CLI::IsMember({"m", "cm", "mm"}));
+  calibrate->add_option("--config", calibrate_options.config,
+                        "YAML with a room_measurement section (defaults: the thesis's)");
+  calibrate->add_flag("--json", calibrate_options.json, "Print one JSON object");
+  on_run(*calibrate, exit_code, [] { return run_calibrate(calibrate_options); });
 }
 
 }  // namespace scanbus::cli

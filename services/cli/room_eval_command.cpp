@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
+#include <optional>
 
 #include "commands.hpp"
 #include "room_measurement_node.hpp"
@@ -20,6 +22,7 @@ namespace {
 
 struct EvalRoomsOptions {
   room_evaluation::SweepOptions sweep;
+  std::optional<unsigned> calibrate_on;  // first seed of the unit's calibration sweep
   std::string config;
   bool json = false;
   bool cases = false;
@@ -136,6 +139,28 @@ void print_table(const std::vector<room_evaluation::SweepSummary>& summaries) {
       "edge: the farther of its two ends from the true one's\n");
 }
 
+nlohmann::json calibration_json(const room_evaluation::SweepCalibration& s) {
+  const auto& c = s.calibration;
+  return {{"scans", c.scans},
+          {"scatter", c.scatter},
+          {"range_bias_m", {{"estimate", c.range_bias}, {"sigma", c.range_bias_sigma}, {"truth", s.true_range_bias}}},
+          {"lever_arm_m", {{"estimate", c.lever_arm}, {"sigma", c.lever_arm_sigma}, {"truth", s.true_lever_arm}}},
+          {"pitch_offset_rad",
+           {{"estimate", c.pitch_offset}, {"sigma", c.pitch_offset_sigma}, {"truth", s.true_pitch_offset}}}};
+}
+
+void print_calibration(const room_evaluation::SweepCalibration& s, unsigned first_seed) {
+  const auto& c = s.calibration;
+  constexpr double kDegree = M_PI / 180;
+  std::printf(
+      "unit calibrated on %zu of its scans (seeds %u on): range bias %+.1f mm (+-%.1f; the unit's own %+.1f), lever "
+      "arm %+.1f mm (+-%.1f; %+.1f), servo offset %+.3f deg (+-%.3f; %+.3f); the scans disagree %.1f times over "
+      "their information\n\n",
+      c.scans, first_seed, 1e3 * c.range_bias, 1e3 * c.range_bias_sigma, 1e3 * s.true_range_bias, 1e3 * c.lever_arm,
+      1e3 * c.lever_arm_sigma, 1e3 * s.true_lever_arm, c.pitch_offset / kDegree, c.pitch_offset_sigma / kDegree,
+      s.true_pitch_offset / kDegree, c.scatter);
+}
+
 int run_eval_rooms(const EvalRoomsOptions& options) {
   room_measurement::RoomSettings settings;
   try {
@@ -146,19 +171,38 @@ int run_eval_rooms(const EvalRoomsOptions& options) {
   }
   const bool progress = !options.json && isatty(STDOUT_FILENO);
   if (!options.out.empty()) std::filesystem::create_directories(options.out);  // before the sweep's seconds
-  const auto cases = room_evaluation::evaluate_sweep(options.sweep, settings, [&](size_t done, size_t total) {
-    if (progress) std::printf("\rscanning and measuring room %zu of %zu   ", done, total), std::fflush(stdout);
-  });
-  if (progress) std::printf("\r%60s\r", "");
+  auto sweep = [&](const room_evaluation::SweepOptions& sweep_options, const char* what) {
+    auto cases = room_evaluation::evaluate_sweep(sweep_options, settings, [&](size_t done, size_t total) {
+      if (progress) std::printf("\r%s room %zu of %zu   ", what, done, total), std::fflush(stdout);
+    });
+    if (progress) std::printf("\r%60s\r", "");
+    return cases;
+  };
+  std::optional<room_evaluation::SweepCalibration> calibration;
+  if (options.calibrate_on) {
+    room_evaluation::SweepOptions calibration_sweep = options.sweep;
+    calibration_sweep.first_seed = *options.calibrate_on;
+    calibration_sweep.keep_clouds = false;
+    try {
+      calibration = room_evaluation::calibrate_on(sweep(calibration_sweep, "calibrating on"), options.sweep.unit_seed);
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "scanbus eval rooms: " << e.what() << "\n";
+      return 1;
+    }
+    room_measurement::apply_calibration(calibration->calibration, settings.adjustment);
+  }
+  const auto cases = sweep(options.sweep, "scanning and measuring");
   if (!options.out.empty()) write_cases(options.out, cases);
   const auto summaries = room_evaluation::summarize(cases);
   if (options.json) {
     nlohmann::json out = {{"summary", nlohmann::json::array()}, {"rooms", nlohmann::json::array()}};
     for (const auto& s : summaries) out["summary"].push_back(summary_json(s));
     for (const auto& c : cases) out["rooms"].push_back(case_json(c));
+    if (calibration) out["calibration"] = calibration_json(*calibration);
     std::cout << out.dump() << "\n";
     return 0;
   }
+  if (calibration) print_calibration(*calibration, *options.calibrate_on);
   if (options.cases)
     for (const auto& c : cases) {
       std::printf("%-15s seed %3u: %-15s %-18s walls %zu, max error %.4f m, area %.3f (true %.3f) m2%s%s: %s\n",
@@ -209,8 +253,17 @@ void add_eval_rooms_command(CLI::App& eval, int& exit_code) {
         }
       });
   rooms->add_option("--threads", options.sweep.threads, "Worker threads (0: one per core)")->check(CLI::Range(0, 256));
-  rooms->add_flag("--ideal-device", options.sweep.ideal_device,
-                  "Scan with the ideal device of the thesis's equations (2 cm noise, no imperfections)");
+  auto* ideal = rooms->add_flag("--ideal-device", options.sweep.ideal_device,
+                                "Scan with the ideal device of the thesis's equations (2 cm noise, no imperfections)");
+  auto* unit = rooms->add_option("--unit-seed", options.sweep.unit_seed,
+                                 "Scan every room with one unit (its errors drawn from this seed, not 0), as a "
+                                 "user's own device; default: a new device per room");
+  unit->check(CLI::Range(1u, std::numeric_limits<unsigned>::max()))->excludes(ideal);
+  rooms
+      ->add_option("--calibrate-on", options.calibrate_on,
+                   "Calibrate the unit first on the same sweep from this seed on (other rooms than those scored), "
+                   "and measure with its calibration")
+      ->needs(unit);
   rooms
       ->add_option("--out", options.out,
                    "Folder (made if missing) for each room's scan (PCD), floor plan (PNG, DXF) and true room (YAML)")

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # `scanbus room measure` from files: units, JSON, floor plans, bad input (exit 2 with a
-# clear message, never a crash), and the real room scan in ../shared when it is there.
+# clear message, never a crash), `room calibrate`, and the real room scan in ../shared when it is there.
 set -uo pipefail
 source "$(dirname "$0")/lib.sh"
 scanbus=$1
@@ -121,6 +121,18 @@ expect_exit 2 "unknown key 'room_measurement.voxel_leef'" -- "$scanbus" room mea
 # The service's own file (service, dds sections and all) is a valid --config.
 "$scanbus" room measure "$work/room_cm.xyz" --unit cm --config "$(dirname "$0")/../../config/services/room_measurement.yaml" \
   > "$work/service_config.txt" 2>&1 || { cat "$work/service_config.txt"; fail "service config rejected by room measure"; }
+
+# `room calibrate`: one simulated unit's scans of ten rooms give its terms and the config that
+# applies them; a file that cannot be read is named, the others still calibrate (exit 2).
+"$scanbus" eval rooms --seed 3001 --count 10 --category box doors windows furniture near_wall --unit-seed 9 \
+  --out "$work/unit" > /dev/null || fail "eval rooms --unit-seed"
+"$scanbus" room calibrate "$work"/unit/*.pcd > "$work/calibration.txt" || fail "room calibrate exit $?"
+sed -n '/^room_measurement:/,$p' "$work/calibration.txt" > "$work/unit.yaml"
+grep -q "range_bias: " "$work/unit.yaml" || { cat "$work/calibration.txt"; fail "room calibrate printed no config"; }
+"$scanbus" room measure "$work/unit/box_3001.pcd" --config "$work/unit.yaml" > "$work/calibrated.txt" 2>&1 ||
+  { cat "$work/calibrated.txt"; fail "room measure with the calibration's config"; }
+expect_exit 2 "missing.pcd: cannot open" -- "$scanbus" room calibrate "$work/missing.pcd" "$work"/unit/box_*.pcd
+expect_exit 1 "at least two scans" -- "$scanbus" room calibrate "$work/unit/box_3001.pcd"
 
 # The real scan: an open room. A result or a clear status, the same twice, never a crash.
 real="$shared/data/rooms/room_scan1.pcd"

@@ -336,6 +336,15 @@ HardwareSettings draw_hardware(std::mt19937& random) {
   return h;
 }
 
+HardwareSettings same_unit(const HardwareSettings& unit, unsigned unit_seed, const HardwareSettings& scan) {
+  HardwareSettings h = unit;
+  h.errors.encoder_offset = scan.errors.encoder_offset;
+  h.errors.yaw_phase = scan.errors.yaw_phase;
+  h.seed = scan.seed;
+  h.unit_seed = unit_seed;
+  return h;
+}
+
 GeneratedRoom generate_room(RoomCategory category, unsigned seed) {
   // One stream per (category, seed): adding a category leaves the others' rooms as they were.
   Draw draw(seed * 7919u + static_cast<unsigned>(category) * 104729u + 17u);

@@ -21,7 +21,8 @@ SimulatedHardware::SimulatedHardware(RangeFunction range, HardwareSettings setti
   servo_errors_.assign(181, settings.errors.servo_offset);
   if (settings.errors.servo_error > 0) {
     std::normal_distribution<double> servo(0.0, settings.errors.servo_error);
-    for (double& error : servo_errors_) error += servo(random_);
+    std::mt19937 unit(settings.unit_seed);
+    for (double& error : servo_errors_) error += servo(settings.unit_seed != 0 ? unit : random_);
   }
 }
 

@@ -113,8 +113,13 @@ void adjust(const AdjustmentSettings& settings, const std::vector<Eigen::Vector3
   result.area_sigma = adjusted.area_sigma;
   if (settings.estimate_device) {
     using State = DeviceEstimate::State;
-    result.device = {adjusted.device_held ? State::Held : State::Applied, adjusted.range_bias, adjusted.lever_arm,
-                     adjusted.pitch_offset, adjusted.yaw_error.norm()};
+    result.device = {adjusted.device_held ? State::Held : State::Applied,
+                     adjusted.range_bias,
+                     adjusted.lever_arm,
+                     adjusted.pitch_offset,
+                     adjusted.yaw_error.norm(),
+                     adjusted.unit_information,
+                     adjusted.unit_rhs};
   }
 }
 

@@ -371,6 +371,25 @@ bool device_within_priors(const Eigen::VectorXd& x, size_t walls, const Adjustme
   return std::hypot(device[3], device[4]) <= kPriorSigmas * sigmas[3];
 }
 
+// The unit's terms (the first three device terms) as the points alone see them: their priors
+// taken out, every other unknown eliminated (a Schur complement), scaled by the points' variance.
+void set_unit_information(const System& system, size_t walls, double variance, AdjustedWalls& result) {
+  Block all = all_of(system);
+  const Eigen::Index g = all.rhs.size(), first = static_cast<Eigen::Index>(2 * walls);
+  for (Eigen::Index t = first; t < first + 3; ++t) {
+    all.normal(t, t) -= system.prior[t];
+    all.rhs[t] -= system.prior[t] * system.prior_mean[t];
+  }
+  std::vector<Eigen::Index> others;
+  for (Eigen::Index i = 0; i < g; ++i)
+    if (i < first || i >= first + 3) others.push_back(i);
+  const Eigen::MatrixXd n_uo = all.normal(Eigen::seqN(first, 3), others);
+  const auto n_oo = all.normal(others, others).ldlt();
+  const Eigen::Matrix3d n_uu = all.normal.block(first, first, 3, 3);
+  result.unit_information = (n_uu - n_uo * n_oo.solve(n_uo.transpose())) / variance;
+  result.unit_rhs = (all.rhs.segment(first, 3) - n_uo * n_oo.solve(Eigen::VectorXd(all.rhs(others)))) / variance;
+}
+
 void set_device_terms(const Eigen::VectorXd& x, size_t walls, AdjustedWalls& result) {
   result.range_bias = x[2 * walls];
   result.lever_arm = x[2 * walls + 1];
@@ -396,6 +415,7 @@ AdjustedWalls adjust_walls(const std::vector<WallLine>& walls, const AdjustmentS
     AdjustedWalls alone = adjust_walls(walls, held);
     alone.device_held = true;
     set_device_terms(x, count, alone);  // reported, not applied: what the device would need
+    set_unit_information(system, count, std::max(variance, 1e-6), alone);
     return alone;
   }
   const Outline best = outline(walls, x);
@@ -407,6 +427,7 @@ AdjustedWalls adjust_walls(const std::vector<WallLine>& walls, const AdjustmentS
   result.lengths = best.lengths;
   result.area = best.area;
   set_device_terms(x, count, result);
+  if (settings.estimate_device) set_unit_information(system, count, std::max(variance, 1e-6), result);
   result.length_sigmas.assign(count, 0);
   result.corner_sigmas.assign(count, 0);
   if (settings.bootstrap <= 0 || bins < 2) return result;

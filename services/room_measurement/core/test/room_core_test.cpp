@@ -5,6 +5,7 @@
 #include <limits>
 #include <random>
 
+#include "scanbus/room_measurement/device_calibration.hpp"
 #include "scanbus/room_measurement/room_measurement.hpp"
 
 using namespace scanbus::room_measurement;
@@ -678,6 +679,27 @@ TEST(WallAdjustment, ACalibratedUnitIsFittedAboutItsCalibration) {
 
   settings.estimate_device = false;  // held at the calibration
   EXPECT_LT(worst_length_error(adjust_walls(walls, settings)), 0.002);
+}
+
+// A unit's terms from its scans' information, without the priors that hold one scan's: exact
+// from noise-free scans, even 4 cm off (one scan alone holds that, beyond its priors); scans
+// whose terms were held (a model mismatch) do not count.
+TEST(UnitCalibration, PoolsTheScansInformationWithoutThePriors) {
+  AdjustmentSettings settings;
+  settings.bootstrap = 0;
+  const auto scan = adjust_walls(scanned_box_walls(0.04, 0.3, 0.02), settings);
+  ASSERT_TRUE(scan.device_held);
+  using State = DeviceEstimate::State;
+  const DeviceEstimate applied{State::Applied, 0, 0, 0, 0, scan.unit_information, scan.unit_rhs};
+  const auto calibration = calibrate_unit({applied, applied});
+  EXPECT_EQ(calibration.scans, 2u);
+  EXPECT_NEAR(calibration.range_bias, -0.04, 0.001);
+  apply_calibration(calibration, settings);
+  EXPECT_LT(worst_length_error(adjust_walls(scanned_box_walls(0.04, 0.3, 0.02), settings)), 0.002);
+
+  DeviceEstimate held = applied;
+  held.state = State::Held;
+  EXPECT_THROW(calibrate_unit({applied, held}), std::invalid_argument);
 }
 
 TEST(WallAdjustment, RecoversAOncePerTurnYawError) {  // a printed gear's runout

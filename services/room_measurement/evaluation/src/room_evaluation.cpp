@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <random>
 #include <stdexcept>
 #include <thread>
 
@@ -267,6 +268,29 @@ RoomCase evaluate_room(const sim::GeneratedRoom& generated, const room_measureme
   return c;
 }
 
+namespace {
+
+sim::HardwareSettings unit_of(unsigned unit_seed) {
+  std::mt19937 random(unit_seed);
+  return sim::draw_hardware(random);
+}
+
+}  // namespace
+
+SweepCalibration calibrate_on(const std::vector<RoomCase>& cases, unsigned unit_seed) {
+  std::vector<room_measurement::DeviceEstimate> scans;
+  for (const auto& c : cases)
+    if (c.verdict == Verdict::Measured || c.verdict == Verdict::Inferred) scans.push_back(c.measurement.device);
+  SweepCalibration s;
+  s.calibration = room_measurement::calibrate_unit(scans);
+  const auto unit = unit_of(unit_seed).errors;
+  // Corrections undo the errors: a range read long is shortened; a pitch read short is raised.
+  s.true_range_bias = -unit.range_bias;
+  s.true_lever_arm = unit.lever_arm;
+  s.true_pitch_offset = unit.servo_offset;
+  return s;
+}
+
 std::vector<RoomCase> evaluate_sweep(const SweepOptions& options, const room_measurement::RoomSettings& settings,
                                      const std::function<void(size_t, size_t)>& progress) {
   const auto& categories = options.categories;
@@ -280,6 +304,8 @@ std::vector<RoomCase> evaluate_sweep(const SweepOptions& options, const room_mea
         sim::HardwareSettings ideal;
         ideal.seed = rooms.back().hardware.seed;
         rooms.back().hardware = ideal;
+      } else if (options.unit_seed != 0) {
+        rooms.back().hardware = sim::same_unit(unit_of(options.unit_seed), options.unit_seed, rooms.back().hardware);
       }
     }
   std::vector<RoomCase> cases(rooms.size());

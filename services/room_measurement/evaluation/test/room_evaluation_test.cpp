@@ -183,3 +183,27 @@ TEST(RoomEvaluation, ReturnsBeyondTheOutlineRefuseIt) {
   const auto mixed = room_evaluation::evaluate_room(sim::generate_room(sim::RoomCategory::Mixed, 35), settings);
   EXPECT_EQ(mixed.verdict, room_evaluation::Verdict::Inferred) << "mixed 35: " << mixed.message;
 }
+
+// One unit scans the rooms, as a user's own device: calibrated on some of its scans (the
+// unit's terms pooled over them), it measures other rooms better than each scan alone can
+// (docs/room_evaluation.md, "What one scan cannot pin down").
+TEST(RoomEvaluation, AUnitCalibratedOnItsScansMeasuresOtherRoomsBetter) {
+  room_evaluation::SweepOptions options;
+  options.count = 26;  // two rooms of each category
+  options.unit_seed = 4;
+  options.first_seed = 2001;
+  room_measurement::RoomSettings settings;
+  const auto calibration = room_evaluation::calibrate_on(room_evaluation::evaluate_sweep(options, settings), 4);
+  const auto& c = calibration.calibration;
+  EXPECT_GE(c.scans, 12u);
+  EXPECT_NEAR(c.range_bias, calibration.true_range_bias, 0.0015);
+  EXPECT_NEAR(c.lever_arm, calibration.true_lever_arm, 0.0015);
+
+  options.first_seed = 1;
+  const auto before = room_evaluation::summarize(room_evaluation::evaluate_sweep(options, settings)).back();
+  room_measurement::apply_calibration(c, settings.adjustment);
+  const auto after = room_evaluation::summarize(room_evaluation::evaluate_sweep(options, settings)).back();
+  EXPECT_LT(after.median_wall_error, 0.8 * before.median_wall_error);
+  EXPECT_LT(after.p95_wall_error, before.p95_wall_error);
+  EXPECT_GE(after.within_target, before.within_target);
+}

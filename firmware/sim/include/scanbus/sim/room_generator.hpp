@@ -47,6 +47,11 @@ GeneratedRoom generate_room(RoomCategory category, unsigned seed);
 // standard servo on a geared pole).
 HardwareSettings draw_hardware(std::mt19937& random);
 
+// One unit (`unit`, drawn by draw_hardware; its servo's errors from `unit_seed`, not 0) in a
+// scan whose own draw is `scan`: the unit's range bias, lever arm, servo, gear and noise, the
+// scan's power-up (where the encoder counts from, so the gear error's phase) and noise stream.
+HardwareSettings same_unit(const HardwareSettings& unit, unsigned unit_seed, const HardwareSettings& scan);
+
 // Share of a wall's length the scanner can see over a height band: columns every 5 cm,
 // heights every 10 cm in the pitch range the device sweeps (42-120 degrees from up), a
 // column seen when a ray reaches it unblocked. Truth for deciding whether a room can be

@@ -40,7 +40,9 @@ struct HardwareSettings {
   double acquisition_time = 0.02;     // s: the LiDAR's 50 Hz
   double max_range = 40.0;            // m
   DeviceErrors errors;
-  unsigned seed = 1;
+  unsigned seed = 1;       // noise and dropouts (and the servo's errors when unit_seed is 0)
+  unsigned unit_seed = 0;  // the servo's repeatable error at each commanded angle, the unit's own:
+                           // the same in every scan of one unit; 0: drawn from `seed`
 };
 
 class SimulatedHardware : public scanner::Hal {

@@ -75,6 +75,10 @@ struct DeviceEstimate {
                                            // fitted alone); the terms say what the fit wanted
   double range_bias = 0, lever_arm = 0;    // m
   double pitch_offset = 0, yaw_error = 0;  // rad; yaw_error the once-per-turn amplitude
+  // What this scan's points alone say about the unit's range bias, lever arm and pitch offset
+  // (AdjustedWalls::unit_information): what a calibration pools (device_calibration.hpp).
+  Eigen::Matrix3d unit_information = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d unit_rhs = Eigen::Vector3d::Zero();
 };
 const char* device_state_name(DeviceEstimate::State state);
 

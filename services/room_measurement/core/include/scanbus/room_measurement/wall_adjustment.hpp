@@ -76,6 +76,12 @@ struct AdjustedWalls {
   Eigen::Vector2d yaw_error{0, 0};       // rad: the yaw error's sine and cosine parts (of the reported yaw)
   bool device_held = false;              // estimated beyond 3 sigmas of their priors, the device terms were held at
                                          // zero in the fit and the walls fitted alone (the priors in the sigmas)
+  // What the points alone say about the unit's own terms (range bias, lever arm, pitch offset:
+  // the walls and the yaw error, whose phase is the scan's own, eliminated, no prior on them):
+  // information (per m^2 and rad^2) and its right-hand side. A calibration sums them over
+  // scans of one unit (device_calibration.hpp). Zero when the device terms are not estimated.
+  Eigen::Matrix3d unit_information = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d unit_rhs = Eigen::Vector3d::Zero();
 };
 
 // `walls` in room order with their inliers; an inferred wall (no inliers) is held where it was

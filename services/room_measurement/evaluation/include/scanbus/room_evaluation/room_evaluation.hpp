@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "scanbus/room_measurement/device_calibration.hpp"
 #include "scanbus/room_measurement/room_measurement.hpp"
 #include "scanbus/sim/room_generator.hpp"
 
@@ -75,11 +76,23 @@ struct SweepOptions {
   bool keep_clouds = false;   // keep each room's scan in its RoomCase (to write it out)
   bool ideal_device = false;  // scan with the device the thesis's equations assume (2 cm noise, no
                               // imperfections): tells the room's geometry from the device's errors
+  unsigned unit_seed = 0;     // one unit scans every room (its errors drawn from this seed, each scan
+                              // its own power-up: sim::same_unit), as a user's own device; 0: a new
+                              // device per room
 };
 
 // Every room of the sweep, in category-then-seed order; `progress(done, total)` after each.
 std::vector<RoomCase> evaluate_sweep(const SweepOptions& options, const room_measurement::RoomSettings& settings,
                                      const std::function<void(size_t, size_t)>& progress = {});
+
+// A unit calibrated from its scans of a sweep (room_measurement::calibrate_unit over the rooms
+// measured with the right walls), beside what the simulator gave it: range bias and lever arm
+// (m) and servo offset (rad), as corrections (what the adjustment estimates).
+struct SweepCalibration {
+  room_measurement::UnitCalibration calibration;
+  double true_range_bias = 0, true_lever_arm = 0, true_pitch_offset = 0;
+};
+SweepCalibration calibrate_on(const std::vector<RoomCase>& cases, unsigned unit_seed);
 
 struct SweepSummary {
   std::string category;  // "all" for the whole sweep

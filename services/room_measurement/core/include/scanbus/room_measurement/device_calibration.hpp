@@ -1,0 +1,32 @@
+// A scanning unit's own range bias, lever arm and servo offset, calibrated from several of its
+// scans: one scan pins them only as far as its walls are seen from many angles
+// (docs/room_evaluation.md), so every scan's information about them is summed (a joint fit of
+// the unit's terms, each scan's walls and yaw error its own) and the result goes into the
+// adjustment's calibrated values, its uncertainty into their priors.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <vector>
+
+#include "scanbus/room_measurement/room_measurement.hpp"
+
+namespace scanbus::room_measurement {
+
+struct UnitCalibration {
+  size_t scans = 0;                      // scans pooled (their device terms applied, not held)
+  double range_bias = 0, lever_arm = 0;  // m: corrections, as DeviceEstimate's
+  double pitch_offset = 0;               // rad
+  double range_bias_sigma = 0, lever_arm_sigma = 0, pitch_offset_sigma = 0;  // one sigma
+  double scatter = 1;  // the scans' disagreement over what their information predicts (the sigmas
+                       // are scaled up by its root: a scan's neighbouring points are not independent)
+};
+
+// Pools the scans whose device terms were applied (held ones took up something the model
+// lacks). Throws std::invalid_argument with fewer than two such scans.
+UnitCalibration calibrate_unit(const std::vector<DeviceEstimate>& scans);
+
+// The calibration as the adjustment's calibrated values and priors.
+void apply_calibration(const UnitCalibration& calibration, AdjustmentSettings& settings);
+
+}  // namespace scanbus::room_measurement
