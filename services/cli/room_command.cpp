@@ -24,13 +24,9 @@ struct RoomOptions {
 
 // Exit codes: 0 measured, 1 could not measure, 2 bad input.
 int run_measure(const RoomOptions& options) {
-  room_measurement::RoomSettings settings;
-  try {
-    if (!options.config.empty()) settings = room_measurement::room_settings_from_file(options.config);
-  } catch (const ConfigError& e) {
-    std::cerr << "scanbus room measure: config error: " << e.what() << "\n";
-    return 2;
-  }
+  const auto loaded = room_settings_for(options.config, "room measure");
+  if (!loaded) return 2;
+  const room_measurement::RoomSettings& settings = *loaded;
   const double scale = cloud_io::metres_per_unit(options.unit);
   room_measurement::RoomResult room;
   try {
@@ -70,13 +66,9 @@ std::string calibration_yaml(const room_measurement::AdjustmentSettings& a, size
 
 // Exit codes: 0 calibrated, 1 too few scans with the device terms applied, 2 bad input.
 int run_calibrate(const CalibrateOptions& options) {
-  room_measurement::RoomSettings settings;
-  try {
-    if (!options.config.empty()) settings = room_measurement::room_settings_from_file(options.config);
-  } catch (const ConfigError& e) {
-    std::cerr << "scanbus room calibrate: config error: " << e.what() << "\n";
-    return 2;
-  }
+  auto loaded = room_settings_for(options.config, "room calibrate");
+  if (!loaded) return 2;
+  room_measurement::RoomSettings& settings = *loaded;
   const double scale = cloud_io::metres_per_unit(options.unit);
   std::vector<room_measurement::DeviceEstimate> scans;
   nlohmann::json files = nlohmann::json::array();

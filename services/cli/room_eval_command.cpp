@@ -11,6 +11,7 @@
 
 #include "commands.hpp"
 #include "room_measurement_node.hpp"
+#include "room_report.hpp"
 #include "scanbus/cloud_io/cloud_files.hpp"
 #include "scanbus/room_evaluation/room_evaluation.hpp"
 #include "scanbus/room_plan/floor_plan.hpp"
@@ -162,13 +163,9 @@ void print_calibration(const room_evaluation::SweepCalibration& s, unsigned firs
 }
 
 int run_eval_rooms(const EvalRoomsOptions& options) {
-  room_measurement::RoomSettings settings;
-  try {
-    if (!options.config.empty()) settings = room_measurement::room_settings_from_file(options.config);
-  } catch (const ConfigError& e) {
-    std::cerr << "scanbus eval rooms: config error: " << e.what() << "\n";
-    return 2;
-  }
+  auto loaded = room_settings_for(options.config, "eval rooms");
+  if (!loaded) return 2;
+  room_measurement::RoomSettings& settings = *loaded;
   const bool progress = !options.json && isatty(STDOUT_FILENO);
   if (!options.out.empty()) std::filesystem::create_directories(options.out);  // before the sweep's seconds
   auto sweep = [&](const room_evaluation::SweepOptions& sweep_options, const char* what) {

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iostream>
+
+#include "room_measurement_node.hpp"
 
 namespace scanbus::cli {
 
@@ -143,6 +146,16 @@ std::string room_text(const RoomResult& room) {
     text += line;
   }
   return text + "\n" + device_text(room.device);
+}
+
+std::optional<room_measurement::RoomSettings> room_settings_for(const std::string& path, const std::string& command) {
+  try {
+    if (path.empty()) return room_measurement::RoomSettings{};
+    return room_measurement::room_settings_from_file(path);
+  } catch (const ConfigError& e) {
+    std::cerr << "scanbus " << command << ": config error: " << e.what() << "\n";
+    return std::nullopt;
+  }
 }
 
 }  // namespace scanbus::cli
