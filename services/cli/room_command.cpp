@@ -1,3 +1,4 @@
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <stdexcept>
@@ -77,7 +78,7 @@ int run_calibrate(const CalibrateOptions& options) {
     room_measurement::RoomResult room;
     try {
       room = room_measurement::measure_room(cloud_io::read_cloud(file, scale), settings);
-    } catch (const cloud_io::CloudFileError& e) {  // the other scans still count
+    } catch (const std::exception& e) {  // the other scans still count
       bad_file = true;
       files.push_back({{"file", file}, {"status", "input_error"}, {"message", e.what()}});
       if (!options.json) std::cerr << "scanbus room calibrate: " << e.what() << "\n";
@@ -104,8 +105,9 @@ int run_calibrate(const CalibrateOptions& options) {
   const auto yaml = calibration_yaml(settings.adjustment, calibration.scans);
   if (options.json) {
     std::cout << nlohmann::json{{"files", files},
-                                {"status", "ok"},
+                                {"status", bad_file ? "partial" : "ok"},
                                 {"scans", calibration.scans},
+                                {"rejected", calibration.rejected},
                                 {"scatter", calibration.scatter},
                                 {"range_bias_m", calibration.range_bias},
                                 {"range_bias_sigma_m", calibration.range_bias_sigma},
@@ -116,10 +118,16 @@ int run_calibrate(const CalibrateOptions& options) {
                                 {"config", yaml}}
               << "\n";
   } else {
-    std::cout << "\nthe unit's own terms from " << calibration.scans
-              << " scans (the sigmas from their information and disagreement; the servo's own error at each step, the "
-                 "same in every scan, is not in them); for its config:\n\n"
-              << yaml;
+    std::printf(
+        "\nthe unit's own terms from %zu scans (%zu left out, far from the others): range bias %+.2f mm (+-%.2f), "
+        "lever arm %+.2f mm (+-%.2f), servo offset %+.3f deg (+-%.3f); the scans disagree %.1f times over their "
+        "information. The sigmas leave out the servo's own error at each step, the same in every scan: the config's "
+        "priors are at least %.0f mm, %.0f mm and %.1f deg (docs/room_evaluation.md). For its config:\n\n%s",
+        calibration.scans, calibration.rejected, 1e3 * calibration.range_bias, 1e3 * calibration.range_bias_sigma,
+        1e3 * calibration.lever_arm, 1e3 * calibration.lever_arm_sigma, calibration.pitch_offset * 180 / M_PI,
+        calibration.pitch_offset_sigma * 180 / M_PI, calibration.scatter,
+        1e3 * room_measurement::kMinimumPriors.range_bias, 1e3 * room_measurement::kMinimumPriors.lever_arm,
+        room_measurement::kMinimumPriors.pitch_offset_deg, yaml.c_str());
   }
   return bad_file ? 2 : 0;
 }

@@ -143,6 +143,7 @@ void print_table(const std::vector<room_evaluation::SweepSummary>& summaries) {
 nlohmann::json calibration_json(const room_evaluation::SweepCalibration& s) {
   const auto& c = s.calibration;
   return {{"scans", c.scans},
+          {"rejected", c.rejected},
           {"scatter", c.scatter},
           {"range_bias_m", {{"estimate", c.range_bias}, {"sigma", c.range_bias_sigma}, {"truth", s.true_range_bias}}},
           {"lever_arm_m", {{"estimate", c.lever_arm}, {"sigma", c.lever_arm_sigma}, {"truth", s.true_lever_arm}}},
@@ -154,12 +155,13 @@ void print_calibration(const room_evaluation::SweepCalibration& s, unsigned firs
   const auto& c = s.calibration;
   constexpr double kDegree = M_PI / 180;
   std::printf(
-      "unit calibrated on %zu of its scans (seeds %u on): range bias %+.1f mm (+-%.1f; the unit's own %+.1f), lever "
+      "unit calibrated on %zu of its scans (%zu left out; seeds %u on): range bias %+.1f mm (+-%.1f; the unit's own "
+      "%+.1f), lever "
       "arm %+.1f mm (+-%.1f; %+.1f), servo offset %+.3f deg (+-%.3f; %+.3f); the scans disagree %.1f times over "
       "their information\n\n",
-      c.scans, first_seed, 1e3 * c.range_bias, 1e3 * c.range_bias_sigma, 1e3 * s.true_range_bias, 1e3 * c.lever_arm,
-      1e3 * c.lever_arm_sigma, 1e3 * s.true_lever_arm, c.pitch_offset / kDegree, c.pitch_offset_sigma / kDegree,
-      s.true_pitch_offset / kDegree, c.scatter);
+      c.scans, c.rejected, first_seed, 1e3 * c.range_bias, 1e3 * c.range_bias_sigma, 1e3 * s.true_range_bias,
+      1e3 * c.lever_arm, 1e3 * c.lever_arm_sigma, 1e3 * s.true_lever_arm, c.pitch_offset / kDegree,
+      c.pitch_offset_sigma / kDegree, s.true_pitch_offset / kDegree, c.scatter);
 }
 
 int run_eval_rooms(const EvalRoomsOptions& options) {

@@ -132,6 +132,7 @@ grep -q "range_bias: " "$work/unit.yaml" || { cat "$work/calibration.txt"; fail 
 "$scanbus" room measure "$work/unit/box_3001.pcd" --config "$work/unit.yaml" > "$work/calibrated.txt" 2>&1 ||
   { cat "$work/calibrated.txt"; fail "room measure with the calibration's config"; }
 expect_exit 2 "missing.pcd: cannot open" -- "$scanbus" room calibrate "$work/missing.pcd" "$work"/unit/box_*.pcd
+grep -q "range_bias: " "$work/stdout" || fail "room calibrate lost the other scans to a missing file"
 expect_exit 1 "at least two scans" -- "$scanbus" room calibrate "$work/unit/box_3001.pcd"
 
 # The real scan: an open room. A result or a clear status, the same twice, never a crash.

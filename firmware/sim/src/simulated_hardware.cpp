@@ -21,7 +21,8 @@ SimulatedHardware::SimulatedHardware(RangeFunction range, HardwareSettings setti
   servo_errors_.assign(181, settings.errors.servo_offset);
   if (settings.errors.servo_error > 0) {
     std::normal_distribution<double> servo(0.0, settings.errors.servo_error);
-    std::mt19937 unit(settings.unit_seed);
+    std::seed_seq unit_stream{settings.unit_seed, 0x5e7u};  // not the stream the unit's other errors came from
+    std::mt19937 unit(unit_stream);
     for (double& error : servo_errors_) error += servo(settings.unit_seed != 0 ? unit : random_);
   }
 }

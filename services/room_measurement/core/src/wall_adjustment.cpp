@@ -131,7 +131,8 @@ struct System {
   std::vector<std::vector<StepSums>> wall_steps;  // per pitch bin, per wall; empty without step unknowns
   double step_prior = 0;                          // the steps' prior weight; 0: no step unknowns
   Eigen::VectorXd prior;                          // g: diagonal prior weights
-  Eigen::VectorXd prior_mean;                     // g: what they pull towards (an inferred wall's line; zero otherwise)
+  Eigen::VectorXd prior_mean;                     // g: what they pull towards (an inferred wall's line, the device
+                                                  // terms' calibrated values; zero otherwise)
 };
 
 // Pitch bin `b`'s sums over every wall.
@@ -191,8 +192,8 @@ Block all_of(const System& system) {
   return all;
 }
 
-// How far the walls move when device term `term` (in device_sigmas' order) is `value`
-// instead of zero: the walls' unknowns re-solved with it held there.
+// How far the walls move when device term `term` (in device_sigmas' order) is moved by
+// `value` from where it is held: the walls' unknowns re-solved with it held there.
 Eigen::VectorXd held_at(const System& system, size_t term, double value) {
   const auto g = system.prior.size();
   const Eigen::MatrixXd normal = all_of(system).normal;

@@ -682,24 +682,34 @@ TEST(WallAdjustment, ACalibratedUnitIsFittedAboutItsCalibration) {
 }
 
 // A unit's terms from its scans' information, without the priors that hold one scan's: exact
-// from noise-free scans, even 4 cm off (one scan alone holds that, beyond its priors); scans
-// whose terms were held (a model mismatch) do not count.
+// from noise-free scans, even 4 cm off (each scan alone holds that, beyond its priors); a scan
+// of something else (here another unit) far from the others' agreement is left out.
 TEST(UnitCalibration, PoolsTheScansInformationWithoutThePriors) {
   AdjustmentSettings settings;
   settings.bootstrap = 0;
-  const auto scan = adjust_walls(scanned_box_walls(0.04, 0.3, 0.02), settings);
-  ASSERT_TRUE(scan.device_held);
-  using State = DeviceEstimate::State;
-  const DeviceEstimate applied{State::Applied, 0, 0, 0, 0, scan.unit_information, scan.unit_rhs};
-  const auto calibration = calibrate_unit({applied, applied});
-  EXPECT_EQ(calibration.scans, 2u);
+  auto scan_of = [&](double bias) {
+    const auto adjusted = adjust_walls(scanned_box_walls(bias, 0.3, 0.02), settings);
+    return DeviceEstimate{adjusted.device_held ? DeviceEstimate::State::Held : DeviceEstimate::State::Applied,
+                          adjusted.range_bias,
+                          adjusted.lever_arm,
+                          adjusted.pitch_offset,
+                          0,
+                          adjusted.unit_information,
+                          adjusted.unit_rhs};
+  };
+  const DeviceEstimate unit = scan_of(0.04), other = scan_of(-0.03);
+  ASSERT_EQ(unit.state, DeviceEstimate::State::Held);
+  const auto calibration = calibrate_unit({unit, unit, unit, other});
+  EXPECT_EQ(calibration.scans, 3u);
+  EXPECT_EQ(calibration.rejected, 1u);
   EXPECT_NEAR(calibration.range_bias, -0.04, 0.001);
   apply_calibration(calibration, settings);
+  EXPECT_FALSE(adjust_walls(scanned_box_walls(0.04, 0.3, 0.02), settings).device_held);
   EXPECT_LT(worst_length_error(adjust_walls(scanned_box_walls(0.04, 0.3, 0.02), settings)), 0.002);
 
-  DeviceEstimate held = applied;
-  held.state = State::Held;
-  EXPECT_THROW(calibrate_unit({applied, held}), std::invalid_argument);
+  EXPECT_THROW(calibrate_unit({unit}), std::invalid_argument);
+  DeviceEstimate not_estimated;
+  EXPECT_THROW(calibrate_unit({unit, not_estimated}), std::invalid_argument);
 }
 
 TEST(WallAdjustment, RecoversAOncePerTurnYawError) {  // a printed gear's runout

@@ -284,7 +284,7 @@ SweepCalibration calibrate_on(const std::vector<RoomCase>& cases, unsigned unit_
   SweepCalibration s;
   s.calibration = room_measurement::calibrate_unit(scans);
   const auto unit = unit_of(unit_seed).errors;
-  // Corrections undo the errors: a range read long is shortened; a pitch read short is raised.
+  // Corrections undo the errors: a range read long is shortened; a pitch read short is increased.
   s.true_range_bias = -unit.range_bias;
   s.true_lever_arm = unit.lever_arm;
   s.true_pitch_offset = unit.servo_offset;

@@ -14,7 +14,8 @@
 namespace scanbus::room_measurement {
 
 struct UnitCalibration {
-  size_t scans = 0;                      // scans pooled (their device terms applied, not held)
+  size_t scans = 0;                      // scans pooled
+  size_t rejected = 0;                   // scans with the terms estimated left out: far from the others
   double range_bias = 0, lever_arm = 0;  // m: corrections, as DeviceEstimate's
   double pitch_offset = 0;               // rad
   double range_bias_sigma = 0, lever_arm_sigma = 0, pitch_offset_sigma = 0;  // one sigma
@@ -22,9 +23,17 @@ struct UnitCalibration {
                        // are scaled up by its root: a scan's neighbouring points are not independent)
 };
 
-// Pools the scans whose device terms were applied (held ones took up something the model
-// lacks). Throws std::invalid_argument with fewer than two such scans.
+// Pools the scans whose device terms were estimated, applied or held (a unit far off is held by
+// every scan's uncalibrated priors), leaving out those far from the others' agreement. Throws
+// std::invalid_argument with fewer than two agreeing scans, or when together they do not pin
+// the three terms.
 UnitCalibration calibrate_unit(const std::vector<DeviceEstimate>& scans);
+
+// The least prior apply_calibration sets (why: device_calibration.cpp).
+struct CalibratedPriors {
+  double range_bias, lever_arm, pitch_offset_deg;
+};
+constexpr CalibratedPriors kMinimumPriors{0.001, 0.001, 0.1};
 
 // The calibration as the adjustment's calibrated values and priors.
 void apply_calibration(const UnitCalibration& calibration, AdjustmentSettings& settings);

@@ -28,8 +28,9 @@ namespace scanbus::room_measurement {
 
 struct AdjustmentSettings {
   bool enabled = true;
-  bool estimate_device = true;     // estimate the device terms (off: hold them at zero, their priors
-                                   // added to the sigmas; docs/room_evaluation.md compares the two)
+  bool estimate_device = true;     // estimate the device terms (off: hold them at their calibrated values,
+                                   // zero uncalibrated, their priors added to the sigmas;
+                                   // docs/room_evaluation.md compares the two)
   double band = 0.05;              // m: a wall's points used, either side of its refined line; wider
                                    // takes in skirting, frames and furniture near the wall
   double band_noise_sigmas = 2.5;  // ...or this many sigmas of the range noise at a point's range, where
@@ -75,11 +76,13 @@ struct AdjustedWalls {
   double pitch_offset = 0;               // rad, added to the reported pitch
   Eigen::Vector2d yaw_error{0, 0};       // rad: the yaw error's sine and cosine parts (of the reported yaw)
   bool device_held = false;              // estimated beyond 3 sigmas of their priors, the device terms were held at
-                                         // zero in the fit and the walls fitted alone (the priors in the sigmas)
-  // What the points alone say about the unit's own terms (range bias, lever arm, pitch offset:
-  // the walls and the yaw error, whose phase is the scan's own, eliminated, no prior on them):
-  // information (per m^2 and rad^2) and its right-hand side. A calibration sums them over
-  // scans of one unit (device_calibration.hpp). Zero when the device terms are not estimated.
+                                         // their calibrated values (zero uncalibrated) and the walls fitted alone
+                                         // (the priors in the sigmas)
+  // What the points alone say about the unit's own terms (range bias, lever arm, pitch offset,
+  // their priors taken out; the walls and the yaw error, whose phase is the scan's own,
+  // eliminated with theirs): information (per m^2 and rad^2) and its right-hand side. A
+  // calibration sums them over scans of one unit (device_calibration.hpp). Zero when the device
+  // terms are not estimated.
   Eigen::Matrix3d unit_information = Eigen::Matrix3d::Zero();
   Eigen::Vector3d unit_rhs = Eigen::Vector3d::Zero();
 };
