@@ -349,6 +349,18 @@ Spread prior_spread(const System& system, const std::vector<WallLine>& walls, co
   const auto sigmas = device_sigmas(settings);
   for (size_t term = 0; term < kDeviceTerms && !settings.estimate_device; ++term)
     add(x + held_at(system, term, sigmas[term]));
+  // A calibration's own error: the fit moves with its values as far as their priors weigh.
+  const auto centres = device_centres(settings);
+  const bool calibrated = std::any_of(centres.begin(), centres.end(), [](double c) { return c != 0; });
+  if (settings.estimate_device && calibrated) {
+    const auto normal = all_of(system).normal.ldlt();
+    for (size_t term = 0; term < 3; ++term) {
+      const Eigen::Index index = static_cast<Eigen::Index>(2 * count + term);
+      Eigen::VectorXd pull = Eigen::VectorXd::Zero(x.size());
+      pull[index] = system.prior[index] * sigmas[term];
+      add(x + normal.solve(pull));
+    }
+  }
   for (size_t k = 0; k < count; ++k) {
     if (!walls[k].inferred) continue;
     Eigen::VectorXd shifted_x = x;
