@@ -65,7 +65,8 @@ std::string calibration_yaml(const room_measurement::AdjustmentSettings& a, size
   return text;
 }
 
-// Exit codes: 0 calibrated, 1 too few scans with the device terms applied, 2 bad input.
+// Exit codes: 0 calibrated, 1 too few scans with the device terms estimated and agreeing, 2 bad input
+// (a file it cannot read or a config error; the other files still calibrate).
 int run_calibrate(const CalibrateOptions& options) {
   auto loaded = room_settings_for(options.config, "room calibrate");
   if (!loaded) return 2;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -179,6 +180,12 @@ int run_eval_rooms(const EvalRoomsOptions& options) {
   };
   std::optional<room_evaluation::SweepCalibration> calibration;
   if (options.calibrate_on) {
+    const int categories = static_cast<int>(options.sweep.categories.size());
+    const int per_category = std::max(1, (options.sweep.count + categories - 1) / categories);  // as evaluate_sweep
+    const long apart = static_cast<long>(*options.calibrate_on) - static_cast<long>(options.sweep.first_seed);
+    if (std::abs(apart) < per_category)  // the same rooms would calibrate and be scored
+      std::cerr << "scanbus eval rooms: warning: --calibrate-on " << *options.calibrate_on
+                << " overlaps the scored seeds from " << options.sweep.first_seed << "\n";
     room_evaluation::SweepOptions calibration_sweep = options.sweep;
     calibration_sweep.first_seed = *options.calibrate_on;
     calibration_sweep.keep_clouds = false;
