@@ -157,9 +157,8 @@ void print_calibration(const room_evaluation::SweepCalibration& s, unsigned firs
   constexpr double kDegree = M_PI / 180;
   std::printf(
       "unit calibrated on %zu of its scans (%zu left out; seeds %u on): range bias %+.1f mm (+-%.1f; the unit's own "
-      "%+.1f), lever "
-      "arm %+.1f mm (+-%.1f; %+.1f), servo offset %+.3f deg (+-%.3f; %+.3f); the scans disagree %.1f times over "
-      "their information\n\n",
+      "%+.1f), lever arm %+.1f mm (+-%.1f; %+.1f), servo offset %+.3f deg (+-%.3f; %+.3f); the scans disagree %.1f "
+      "times over their information\n\n",
       c.scans, c.rejected, first_seed, 1e3 * c.range_bias, 1e3 * c.range_bias_sigma, 1e3 * s.true_range_bias,
       1e3 * c.lever_arm, 1e3 * c.lever_arm_sigma, 1e3 * s.true_lever_arm, c.pitch_offset / kDegree,
       c.pitch_offset_sigma / kDegree, s.true_pitch_offset / kDegree, c.scatter);

@@ -70,12 +70,12 @@ UnitCalibration calibrate_unit(const std::vector<DeviceEstimate>& scans) {
   // with the rest far beyond their usual spread: left out, and the rest pooled again.
   Pooled pooled = pool(kept);
   for (int round = 0; round < 5; ++round) {
-    std::vector<double> misfits;
-    for (const auto* scan : candidates)
-      misfits.push_back(misfit_to_others(*scan, pooled, std::find(kept.begin(), kept.end(), scan) != kept.end()));
-    std::vector<double> spread;
-    for (size_t i = 0; i < candidates.size(); ++i)
-      if (std::find(kept.begin(), kept.end(), candidates[i]) != kept.end()) spread.push_back(misfits[i]);
+    std::vector<double> misfits, spread;  // spread: the pooled scans' misfits
+    for (const auto* scan : candidates) {
+      const bool pooled_in = std::find(kept.begin(), kept.end(), scan) != kept.end();
+      misfits.push_back(misfit_to_others(*scan, pooled, pooled_in));
+      if (pooled_in) spread.push_back(misfits.back());
+    }
     std::nth_element(spread.begin(), spread.begin() + static_cast<long>(spread.size() / 2), spread.end());
     const double usual = std::max(1.0, spread[spread.size() / 2] / kChiSquareMedian);
     std::vector<const DeviceEstimate*> agreeing;
@@ -106,8 +106,8 @@ void apply_calibration(const UnitCalibration& calibration, AdjustmentSettings& s
   settings.calibrated_pitch_offset_deg = calibration.pitch_offset / kDegree;
   // The servo's own error at each commanded angle is the same in every scan and leaks into the
   // terms the same way, where no disagreement between scans shows it: over ten simulated units
-  // the pooled terms lay up to 0.9 mm and 0.2 degree from the units' own
-  // (docs/room_evaluation.md). The priors are not let below that.
+  // the pooled terms lay up to 1.3 mm, 0.7 mm and 0.2 degree from the units' own
+  // (docs/room_evaluation.md). The priors are not let below kMinimumPriors.
   settings.range_bias_prior = std::max(kMinimumPriors.range_bias, calibration.range_bias_sigma);
   settings.lever_arm_prior = std::max(kMinimumPriors.lever_arm, calibration.lever_arm_sigma);
   settings.pitch_error_prior_deg = std::max(kMinimumPriors.pitch_offset_deg, calibration.pitch_offset_sigma / kDegree);
