@@ -66,7 +66,8 @@ echo "replay of ${flight##*/} at ${rate}x took $(( $(date +%s) - started )) s"
 sleep 2  # the last poses and the last cloud
 kill -INT "$echo_pid" "$truth_pid"; wait "$echo_pid" "$truth_pid"
 grep -h "samples lost" "$work"/*.log | tail -5  # where poses went missing, if any did
-grep -h "scan dropped" "$work/cloud_assembly.log" | tail -3  # scans the cloud lost, if any
+# Scans the cloud lost (scans_dropped) and why (its last error): Health, not the log, says it.
+"$scanbus" health --once --timeout 3 | grep cloud_assembly || true
 "$scanbus" cloud save --out "$work/assembled.pcd" --timeout 10 || fail "no rt/cloud/assembled"
 "$scanbus" cloud save --window 1700000000,1700000180 --out "$work/window.pcd" --timeout 10 || fail "no assemble reply"
 "$scanbus" eval boxes "$work/window.pcd" --truth 0.4,0.6 --json > "$work/boxes_window.json"
