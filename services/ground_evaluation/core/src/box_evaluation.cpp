@@ -13,6 +13,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <optional>
 
 namespace scanbus::ground_evaluation {
@@ -239,6 +240,77 @@ Top top_of(const pcl::PointCloud<pcl::PointXYZ>& above, const pcl::PointIndices&
   return top;
 }
 
+// How an object's points spread on the ground: their mean, principal axes and the
+// half-sides of the rectangle an even spread that wide would cover (variance h^2 / 3).
+struct Spread {
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  Eigen::Matrix2d axes = Eigen::Matrix2d::Identity();
+  Eigen::Vector2d half = Eigen::Vector2d::Zero();
+};
+Spread spread_of(const pcl::PointCloud<pcl::PointXYZ>& above, const pcl::PointIndices& cluster) {
+  Spread spread;
+  for (int index : cluster.indices)
+    spread.mean += above[static_cast<size_t>(index)].getVector3fMap().head<2>().cast<double>();
+  spread.mean /= static_cast<double>(cluster.indices.size());
+  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+  for (int index : cluster.indices) {
+    const Eigen::Vector2d d = above[static_cast<size_t>(index)].getVector3fMap().head<2>().cast<double>() - spread.mean;
+    scatter += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(scatter / static_cast<double>(cluster.indices.size()));
+  spread.axes = solver.eigenvectors();
+  spread.half = (3 * solver.eigenvalues().cwiseMax(1e-12)).cwiseSqrt();
+  return spread;
+}
+
+// Whether an object has sides: just outside the rectangle its points cover (5 to 15 cm
+// beyond it) lies ground, nearer the ground's level than half the height objects are cut
+// at (`cut`). A box does; the crown of a mound that the local ground planes cut off does not
+// (found on a 0.4 m mound beside the boxes: its crown, 0.17 m above the planes, was nearer
+// the boxes' size than a box, and around it the mound stood 0.07 m above them), nor does a
+// bank: what lies around them is just under the cut.
+// The cloud's points in order of x, to visit only the strip an object's surroundings lie in.
+struct ByX {
+  explicit ByX(const pcl::PointCloud<pcl::PointXYZ>& cloud) : order(cloud.size()) {
+    std::iota(order.begin(), order.end(), size_t{0});
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return cloud[a].x < cloud[b].x; });
+    for (size_t i : order) xs.push_back(cloud[i].x);
+  }
+  std::vector<size_t> order;
+  std::vector<float> xs;  // cloud[order[k]].x
+};
+
+bool has_sides(const Spread& spread, double cut, const pcl::PointCloud<pcl::PointXYZ>& cloud, const ByX& by_x,
+               const std::vector<std::optional<double>>& above_ground) {
+  constexpr double kNear = 0.05, kFar = 0.15;  // m beyond the rectangle: past the blur of its edge
+  constexpr size_t kLeastAround = 10;          // fewer points around say nothing
+  const double reach = spread.axes.row(0).cwiseAbs().dot(spread.half + Eigen::Vector2d::Constant(kFar));
+  const auto from = std::lower_bound(by_x.xs.begin(), by_x.xs.end(), static_cast<float>(spread.mean.x() - reach));
+  const auto to = std::upper_bound(from, by_x.xs.end(), static_cast<float>(spread.mean.x() + reach));
+  std::vector<double> around;
+  for (auto it = from; it != to; ++it) {
+    const size_t i = by_x.order[static_cast<size_t>(it - by_x.xs.begin())];
+    if (!above_ground[i]) continue;
+    const Eigen::Vector2d local =
+        spread.axes.transpose() * (cloud[i].getVector3fMap().head<2>().cast<double>() - spread.mean);
+    const double beyond = (local.cwiseAbs() - spread.half).maxCoeff();
+    if (beyond > kNear && beyond <= kFar) around.push_back(*above_ground[i]);
+  }
+  if (around.size() < kLeastAround) return true;  // too little seen around it: no evidence against a box
+  const auto middle = around.begin() + static_cast<long>(around.size() / 2);
+  std::nth_element(around.begin(), middle, around.end());
+  return *middle < cut / 2;
+}
+
+// The height of an object's top: most of a box's points lie on its top, the highest are noise.
+double top_height(const pcl::PointIndices& cluster, const std::vector<double>& heights) {
+  std::vector<double> cluster_heights;
+  for (int index : cluster.indices) cluster_heights.push_back(heights[static_cast<size_t>(index)]);
+  const auto at = cluster_heights.begin() + static_cast<long>(0.75 * static_cast<double>(cluster_heights.size() - 1));
+  std::nth_element(cluster_heights.begin(), at, cluster_heights.end());
+  return *at;
+}
+
 }  // namespace
 
 BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double truth_width, double truth_length,
@@ -304,39 +376,31 @@ BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double t
                      std::to_string(settings.boxes) + " boxes";
     return result;
   }
-  // The boxes are the objects whose size on the ground is nearest the boxes' known
-  // footprint: a ridge of ground where the MAV hovered with a wrong height, or a pile of
-  // stray returns, may be larger, but is not box-sized. (Only the size is compared: the
-  // width/length ratio P measures is left free.)
-  const auto size_mismatch = [&](const pcl::PointIndices& cluster) {
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    for (int index : cluster.indices)
-      mean += (*above)[static_cast<size_t>(index)].getVector3fMap().head<2>().cast<double>();
-    mean /= static_cast<double>(cluster.indices.size());
-    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
-    for (int index : cluster.indices) {
-      const Eigen::Vector2d d = (*above)[static_cast<size_t>(index)].getVector3fMap().head<2>().cast<double>() - mean;
-      scatter += d * d.transpose();
-    }
-    scatter /= static_cast<double>(cluster.indices.size());
-    // An even spread over a w x l rectangle has variances w^2/12 and l^2/12.
-    const Eigen::Vector2d variances =
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(scatter).eigenvalues().cwiseMax(1e-12);
-    const double area = 12 * std::sqrt(variances.x() * variances.y());
-    return std::abs(std::log(area / (truth_width * truth_length)));
-  };
+  // The boxes are the objects with sides whose size on the ground is nearest the boxes'
+  // known footprint: a ridge of ground where the MAV hovered with a wrong height, or a pile
+  // of stray returns, may be larger, but is not box-sized. (Only the size is compared: the
+  // width/length ratio P measures is left free.) Objects without sides come after those
+  // with, so that too few of those still gives a measurement.
   std::vector<std::pair<double, size_t>> by_size;  // mismatch, cluster
-  for (size_t c = 0; c < clusters.size(); ++c) by_size.emplace_back(size_mismatch(clusters[c]), c);
+  std::vector<Spread> spreads;
+  for (size_t c = 0; c < clusters.size(); ++c) {
+    spreads.push_back(spread_of(*above, clusters[c]));
+    const double area = 4 * spreads.back().half.x() * spreads.back().half.y();
+    by_size.emplace_back(std::abs(std::log(area / (truth_width * truth_length))), c);
+  }
   std::stable_sort(by_size.begin(), by_size.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<size_t> chosen, sideless;
+  const ByX by_x(*centred);
+  for (const auto& [mismatch, c] : by_size) {
+    if (chosen.size() == settings.boxes) break;
+    const bool sides = has_sides(spreads[c], min_height, *centred, by_x, above_ground);
+    (sides ? chosen : sideless).push_back(c);
+  }
+  for (size_t k = 0; chosen.size() < settings.boxes; ++k) chosen.push_back(sideless[k]);
   double total = 0;
-  for (size_t rank = 0; rank < settings.boxes; ++rank) {
-    const pcl::PointIndices& cluster = clusters[by_size[rank].second];
-    // The top's height: most of a box's points lie on its top, the highest are noise.
-    std::vector<double> cluster_heights;
-    for (int index : cluster.indices) cluster_heights.push_back(heights[static_cast<size_t>(index)]);
-    const auto at = cluster_heights.begin() + static_cast<long>(0.75 * static_cast<double>(cluster_heights.size() - 1));
-    std::nth_element(cluster_heights.begin(), at, cluster_heights.end());
-    const double top = *at;
+  for (size_t c : chosen) {
+    const pcl::PointIndices& cluster = clusters[c];
+    const double top = top_height(cluster, heights);
     const Top box_top = top_of(*above, cluster, settings.top_band);
     const Footprint footprint = fit_footprint(box_top.points, settings.noise);
     BoxMeasurement box;

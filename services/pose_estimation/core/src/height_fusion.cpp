@@ -54,7 +54,7 @@ double HeightFusion::add_node(double stamp, std::optional<double> change, const 
   if (change) last_change_ = {stamp, *change};
   const bool first = nodes_.empty();
   const double predicted = first ? first_altitude_.value_or(0) : states_.at(nodes_.back().second) + change.value_or(0);
-  // Until the first solve the height is one barometer altitude: its sigma is that sample's.
+  // The first node's gates, before its solve, see one barometer altitude: that sample's sigma.
   if (first) height_sigma_ = std::hypot(settings_.baro_sigma, settings_.initial_bias_sigma);
   const long height = new_state(predicted);
   const bool saw_ground = add_ground(stamp, height, ground);
@@ -84,6 +84,8 @@ double HeightFusion::add_node(double stamp, std::optional<double> change, const 
   }
   // Samples up to this node now have nodes on both sides (or at the first node).
   const auto up_to_node = [&](const Sample& sample) { return sample.stamp <= stamp; };
+  const bool tied = std::any_of(pending_.begin(), pending_.end(), up_to_node) ||
+                    std::any_of(pending_gps_.begin(), pending_gps_.end(), up_to_node);
   auto ready = std::stable_partition(pending_.begin(), pending_.end(), up_to_node);
   for (auto it = pending_.begin(); it != ready; ++it) add_barometer_residual(*it);
   pending_.erase(pending_.begin(), ready);
@@ -91,7 +93,10 @@ double HeightFusion::add_node(double stamp, std::optional<double> change, const 
   for (auto it = pending_gps_.begin(); it != ready; ++it) residuals_.push_back(interpolated(*it, gps_biases_));
   pending_gps_.erase(pending_gps_.begin(), ready);
   slide();
-  if (++since_solve_ >= settings_.solve_every) {
+  // The first node is solved at once when an altitude ties it: unsolved, its height (and
+  // those propagated from it until the next solve) would be one barometer sample, 0.3 m off,
+  // where a fix says 2 cm; solved without any altitude, its sigma would be unbounded.
+  if (++since_solve_ >= settings_.solve_every || (first && tied)) {
     solve();
     since_solve_ = 0;
   }

@@ -308,6 +308,24 @@ TEST(HeightFusion, GpsAltitudeCountsAsMuchAsItsFixSays) {
   }
 }
 
+TEST(HeightFusion, TheFirstHeightsFollowAnRtkFixNotTheBarometerAlone) {
+  // Scenario IV seed 8 at 30.1 Hz: the first two scans came out 0.27 m high (the barometer's
+  // take-off offset), stood out of the ground as a 4 m "box" and took box P to 49.6 %.
+  HeightFusion fusion;
+  fusion.add_barometer(0, 3.27);
+  fusion.add_gps(0, 3.00, 0.02);
+  EXPECT_NEAR(fusion.add_node(0, std::nullopt), 3.0, 0.03);
+  EXPECT_LT(fusion.height_sigma(), 0.05);
+  EXPECT_NEAR(fusion.add_node(0.033, 0.0), 3.0, 0.03);  // propagated from the first until the next solve
+}
+
+TEST(HeightFusion, AFirstNodeWithoutAnAltitudeKeepsABoundedSigma) {
+  HeightFusion fusion;
+  fusion.add_barometer(0.05, 3.27);  // the first pressure just after the first scan
+  fusion.add_node(0, std::nullopt);
+  EXPECT_LT(fusion.height_sigma(), 1.0);
+}
+
 TEST(PoseEstimator, OnceScansComeAMatchWaitsForItsOwn) {
   PoseEstimator estimator(settings_at_origin());
   for (double t : {0.0, 0.1}) {

@@ -1,8 +1,8 @@
 // The MAV paper's quantitative check of a ground model (section 4.1): boxes of known size
 // stand on the ground; find them in the cloud (the paper's ground is flat: here the ground is
 // removed as a plane per half-metre cell, so boxes on a slope or a mound are found the same
-// way; Euclidean clusters,
-// the objects nearest the boxes' known footprint area), fit each one's footprint rectangle
+// way; Euclidean clusters, the objects with sides nearest the boxes' known footprint area,
+// then those without), fit each one's footprint rectangle
 // and compare its width/length ratio with the truth:
 // E = |ratio_measured - ratio_actual| / ratio_actual * 100 %, P = 100 % - E.
 #pragma once
@@ -38,7 +38,7 @@ struct BoxEvaluation {
   bool ok = false;
   std::string message;  // why not, when not ok
   double ratio_actual = 0;
-  std::vector<BoxMeasurement> boxes;  // the objects nearest the boxes' size, nearest first
+  std::vector<BoxMeasurement> boxes;  // objects with sides nearest the boxes' size first
   double mean_performance_percent = 0;
   size_t ground_points = 0;
   double ground_sigma = 0;  // m, robust spread of the ground's heights about the ground under them

@@ -103,7 +103,7 @@ class HeightFusion {
   // A node at `stamp` (after the previous one) with the scan matcher's height change since
   // the previous node, or none (failed match, no scan matcher), and the scan's returns on
   // the ground. Returns the height now estimated for this node. The first node starts at the
-  // first barometer altitude.
+  // first barometer altitude and is solved at once when a barometer or GPS altitude ties it.
   double add_node(double stamp, std::optional<double> change, const std::vector<GroundReturn>& ground = {});
 
   // Barometer altitudes more than 5 sigma from the estimate when they entered (left out
