@@ -13,7 +13,6 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <numeric>
 #include <optional>
 
 namespace scanbus::ground_evaluation {
@@ -269,28 +268,17 @@ Spread spread_of(const pcl::PointCloud<pcl::PointXYZ>& above, const pcl::PointIn
 // (found on a 0.4 m mound beside the boxes: its crown, 0.17 m above the planes, was nearer
 // the boxes' size than a box, and around it the mound stood 0.07 m above them), nor does a
 // bank: what lies around them is just under the cut.
-// The cloud's points in order of x, to visit only the strip an object's surroundings lie in.
-struct ByX {
-  explicit ByX(const pcl::PointCloud<pcl::PointXYZ>& cloud) : order(cloud.size()) {
-    std::iota(order.begin(), order.end(), size_t{0});
-    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return cloud[a].x < cloud[b].x; });
-    for (size_t i : order) xs.push_back(cloud[i].x);
-  }
-  std::vector<size_t> order;
-  std::vector<float> xs;  // cloud[order[k]].x
-};
-
-bool has_sides(const Spread& spread, double cut, const pcl::PointCloud<pcl::PointXYZ>& cloud, const ByX& by_x,
+bool has_sides(const Spread& spread, double cut, const pcl::PointCloud<pcl::PointXYZ>& cloud,
                const std::vector<std::optional<double>>& above_ground) {
   constexpr double kNear = 0.05, kFar = 0.15;  // m beyond the rectangle: past the blur of its edge
   constexpr size_t kLeastAround = 10;          // fewer points around say nothing
-  const double reach = spread.axes.row(0).cwiseAbs().dot(spread.half + Eigen::Vector2d::Constant(kFar));
-  const auto from = std::lower_bound(by_x.xs.begin(), by_x.xs.end(), static_cast<float>(spread.mean.x() - reach));
-  const auto to = std::upper_bound(from, by_x.xs.end(), static_cast<float>(spread.mean.x() + reach));
+  // The grown rectangle's reach along x and y: most points fall outside it at two compares.
+  const Eigen::Vector2d reach = spread.axes.cwiseAbs() * (spread.half + Eigen::Vector2d::Constant(kFar));
   std::vector<double> around;
-  for (auto it = from; it != to; ++it) {
-    const size_t i = by_x.order[static_cast<size_t>(it - by_x.xs.begin())];
-    if (!above_ground[i]) continue;
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    if (!above_ground[i] || std::abs(cloud[i].x - spread.mean.x()) > reach.x() ||
+        std::abs(cloud[i].y - spread.mean.y()) > reach.y())
+      continue;
     const Eigen::Vector2d local =
         spread.axes.transpose() * (cloud[i].getVector3fMap().head<2>().cast<double>() - spread.mean);
     const double beyond = (local.cwiseAbs() - spread.half).maxCoeff();
@@ -390,10 +378,9 @@ BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double t
   }
   std::stable_sort(by_size.begin(), by_size.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   std::vector<size_t> chosen, sideless;
-  const ByX by_x(*centred);
   for (const auto& [mismatch, c] : by_size) {
     if (chosen.size() == settings.boxes) break;
-    const bool sides = has_sides(spreads[c], min_height, *centred, by_x, above_ground);
+    const bool sides = has_sides(spreads[c], min_height, *centred, above_ground);
     (sides ? chosen : sideless).push_back(c);
   }
   for (size_t k = 0; chosen.size() < settings.boxes; ++k) chosen.push_back(sideless[k]);
