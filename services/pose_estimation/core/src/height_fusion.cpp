@@ -84,8 +84,8 @@ double HeightFusion::add_node(double stamp, std::optional<double> change, const 
   }
   // Samples up to this node now have nodes on both sides (or at the first node).
   const auto up_to_node = [&](const Sample& sample) { return sample.stamp <= stamp; };
-  const bool tied = std::any_of(pending_.begin(), pending_.end(), up_to_node) ||
-                    std::any_of(pending_gps_.begin(), pending_gps_.end(), up_to_node);
+  const bool tied_first = first && (std::any_of(pending_.begin(), pending_.end(), up_to_node) ||
+                                    std::any_of(pending_gps_.begin(), pending_gps_.end(), up_to_node));
   auto ready = std::stable_partition(pending_.begin(), pending_.end(), up_to_node);
   for (auto it = pending_.begin(); it != ready; ++it) add_barometer_residual(*it);
   pending_.erase(pending_.begin(), ready);
@@ -96,7 +96,7 @@ double HeightFusion::add_node(double stamp, std::optional<double> change, const 
   // The first node is solved at once when an altitude ties it: unsolved, its height (and
   // those propagated from it until the next solve) would be one barometer sample, 0.3 m off,
   // where a fix says 2 cm; solved without any altitude, its sigma would be unbounded.
-  if (++since_solve_ >= settings_.solve_every || (first && tied)) {
+  if (++since_solve_ >= settings_.solve_every || tied_first) {
     solve();
     since_solve_ = 0;
   }
