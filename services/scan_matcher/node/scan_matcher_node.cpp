@@ -93,8 +93,10 @@ class ScanMatcherService : public Service {
     std::lock_guard<std::mutex> lock(mutex_);
     const MatchResult result = matcher_.add_scan(*scan, imu_guess(stamp));
     previous_stamp_ = stamp;
-    // The IMU guess's translation: the matched one, none after a failure (as the matcher holds).
-    last_increment_ = result.quality == MatchQuality::Ok ? result.increment : Pose2{};
+    // The IMU guess's translation: the matched one, none after a failure (as the matcher holds)
+    // or without constant velocity (as the matcher predicts).
+    last_increment_ =
+        result.quality == MatchQuality::Ok && matcher_.settings().constant_velocity ? result.increment : Pose2{};
     ++health_.counter(result.quality == MatchQuality::Ok || result.quality == MatchQuality::NoReference
                           ? "scans_matched"
                           : "matches_failed");

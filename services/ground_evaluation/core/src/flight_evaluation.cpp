@@ -83,6 +83,7 @@ scan_matcher::MatcherSettings mav_matcher_settings() {
   settings.trim = 0.9;
   settings.robust_scale = 0;
   settings.min_inlier_ratio = 0;
+  settings.constant_velocity = false;
   return settings;
 }
 

@@ -31,6 +31,7 @@ TEST(FlightEvaluation, TheMavDeploymentMatchesAsTheEvaluationDoes) {
   EXPECT_EQ(deployed.lost_after, evaluated.lost_after);
   EXPECT_DOUBLE_EQ(deployed.guess_jump, evaluated.guess_jump);
   EXPECT_DOUBLE_EQ(deployed.guess_turn, evaluated.guess_turn);
+  EXPECT_EQ(deployed.constant_velocity, evaluated.constant_velocity);
 }
 
 TEST(FlightEvaluation, TheDeployedFusionIsTheEvaluatedOne) {

@@ -282,7 +282,7 @@ MatchResult ScanMatcher::add_scan(const sensor::LaserScan& scan, const std::opti
     ++failures_;
   }
   result.increment = previous.inverse() * pose_;
-  last_increment_ = ok ? result.increment : Pose2{};
+  last_increment_ = ok && settings_.constant_velocity ? result.increment : Pose2{};
   if (ok) last_taken_ = result.increment;
   result.pose = pose_;
   const Pose2 from_keyframe = keyframe_pose_->inverse() * pose_;
@@ -388,6 +388,7 @@ MatcherSettings matcher_settings_from_config(const Config& section) {
   s.inlier_distance = section.number("inlier_distance", s.inlier_distance, 0.001, 10);
   s.prior_weight = section.number("prior_weight", s.prior_weight, 0, 1e6);
   s.guess_weight = section.number("guess_weight", s.guess_weight, 0, 1e6);
+  s.constant_velocity = section.flag("constant_velocity", s.constant_velocity);
   s.suspicious_residual = section.number("suspicious_residual", s.suspicious_residual, 1, 1000);
   s.map_keyframes = static_cast<int>(section.integer("map_keyframes", s.map_keyframes, 1, 100000));
   s.guess_jump = section.number("guess_jump", s.guess_jump, 0, 1000);

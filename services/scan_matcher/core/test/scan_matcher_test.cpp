@@ -334,3 +334,24 @@ TEST(ImuGuess, HistoryGivesTheLastSampleAtOrBeforeAStamp) {
   history.add(3.2, Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ())));  // arrived late
   EXPECT_NEAR(Eigen::AngleAxisd(*history.at(3.5)).angle(), 0.7, 1e-12);
 }
+
+// Flat ground seen from above pins only the height and the pitch. One match pulled 0.1 m
+// along the ground (a wrong guess) is carried on at every scan by the constant-velocity
+// prediction; predicting no motion (the MAV's setting), the pose stays where it was.
+TEST(PlIcpSynthetic, WithoutConstantVelocityAWrongSlideIsNotCarriedOn) {
+  const LaserWorld ground = LaserWorld::flat_ground();
+  const Pose2 hovering{0, 3.0, -M_PI / 2};
+  const auto slide_after_the_guess = [&](bool constant_velocity) {
+    MatcherSettings settings;
+    settings.constant_velocity = constant_velocity;
+    ScanMatcher matcher(settings);
+    std::mt19937 random(3);
+    matcher.add_scan(ground.scan(hovering, downward_laser(), random));
+    matcher.add_scan(ground.scan(hovering, downward_laser(), random), Pose2{0, 0.1, 0});
+    const double after_guess = matcher.pose().y;
+    for (int i = 0; i < 10; ++i) matcher.add_scan(ground.scan(hovering, downward_laser(), random));
+    return matcher.pose().y - after_guess;
+  };
+  EXPECT_GT(std::abs(slide_after_the_guess(true)), 0.5);
+  EXPECT_LT(std::abs(slide_after_the_guess(false)), 0.05);
+}

@@ -52,6 +52,11 @@ struct MatcherSettings {
   double guess_turn = 20 * M_PI / 180;  // turned this much from, the last taken increment is the
                                         // odometry jumping: more than an indoor robot's motion
                                         // changes between two scans
+  bool constant_velocity = true;        // the prediction is the last increment again; false: no
+                                        // motion, for a scanner whose motion in its scan plane
+                                        // is small between scans (the MAV's downward laser): over
+                                        // ground the scan constrains only across it, one wrong
+                                        // match carried on slides the pose at every scan
   double suspicious_residual = 2.0;     // a residual this many times the recent ones makes the
                                         // matcher try other initial guesses
   double inlier_distance = 0.05;        // m: a point this close to its line counts as explained
@@ -88,10 +93,12 @@ class ScanMatcher {
   ~ScanMatcher();
   ScanMatcher(const ScanMatcher&) = delete;
   ScanMatcher& operator=(const ScanMatcher&) = delete;
+  const MatcherSettings& settings() const { return settings_; }
 
   // Matches against the local map. `motion_guess` is the expected motion since the previous
   // scan (e.g. from odometry); without it, or when it jumps (guess_jump, guess_turn), the
-  // previous increment is assumed again (constant velocity). A failed match follows that
+  // previous increment is assumed again (constant velocity; no motion without
+  // constant_velocity). A failed match follows that
   // prediction once and holds the pose after (or follows the guess when one was given);
   // lost_after failures in a row start the map again from the scan.
   MatchResult add_scan(const sensor::LaserScan& scan, const std::optional<Pose2>& motion_guess = std::nullopt);
@@ -134,6 +141,7 @@ class ScanMatcher {
   std::unique_ptr<LocalMap> map_;       // in the first scan's frame
   Pose2 pose_;
   Pose2 last_increment_;             // the prediction: the last taken increment, zero after a failure
+                                     // (always, without constant_velocity)
   Pose2 last_taken_;                 // the last taken increment, which a guess is judged against
   double typical_residual_ = 0;      // m, running mean of accepted matches' residuals
   int failures_ = 0;                 // failed matches in a row
