@@ -366,15 +366,19 @@ BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double t
   }
   // The boxes are the objects with sides whose size on the ground is nearest the boxes'
   // known footprint: a ridge of ground where the MAV hovered with a wrong height, or a pile
-  // of stray returns, may be larger, but is not box-sized. (Only the size is compared: the
-  // width/length ratio P measures is left free.) Objects without sides come after those
-  // with, so that too few of those still gives a measurement.
+  // of stray returns, may be larger, but is not box-sized. The area and the longer side are
+  // compared: a strip along a step's edge, which the local ground planes cut off, had a
+  // box's area (1.06 x 0.09 m found beside the boxes over issue 19's steps). Objects without
+  // sides come after those with, so that too few of those still gives a measurement.
   std::vector<std::pair<double, size_t>> by_size;  // mismatch, cluster
   std::vector<Spread> spreads;
   for (size_t c = 0; c < clusters.size(); ++c) {
     spreads.push_back(spread_of(*above, clusters[c]));
-    const double area = 4 * spreads.back().half.x() * spreads.back().half.y();
-    by_size.emplace_back(std::abs(std::log(area / (truth_width * truth_length))), c);
+    const Eigen::Vector2d& half = spreads.back().half;
+    const double area = 4 * half.x() * half.y(), length = 2 * half.maxCoeff();
+    by_size.emplace_back(std::abs(std::log(area / (truth_width * truth_length))) +
+                             std::abs(std::log(length / std::max(truth_width, truth_length))),
+                         c);
   }
   std::stable_sort(by_size.begin(), by_size.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   std::vector<size_t> chosen, sideless;

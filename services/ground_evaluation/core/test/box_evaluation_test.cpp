@@ -156,3 +156,14 @@ TEST(BoxEvaluation, TooFewObjectsWithSidesStillGiveAMeasurement) {
   EXPECT_NEAR(std::min(xs[0], xs[1]), 2.0, 0.02);  // the plateau, measured since nothing better stands there
   EXPECT_NEAR(std::max(xs[0], xs[1]), 4.5, 0.02);
 }
+
+TEST(BoxEvaluation, AStripWithABoxsAreaIsNotTakenForABox) {
+  // As along a step's edge that the local ground planes cut off: 1.1 x 0.22 m, a box's area
+  // (nearer it than the 0.62 x 0.42 m boxes), twice its length.
+  const auto strip = [](double x, double y) { return std::abs(x - 2) <= 0.11 && std::abs(y) <= 0.55 ? 0.3 : 0.0; };
+  const auto cloud = scene({{{4.5, -0.45, 0}, 0.0}, {{4.5, 0.45, 0}, 0.0}}, {0.62, 0.42, 0.3}, 0.01, strip);
+  const BoxEvaluation result = evaluate_boxes(cloud, 0.4, 0.6);
+  ASSERT_TRUE(result.ok) << result.message;
+  ASSERT_EQ(result.boxes.size(), 2u);
+  for (const auto& box : result.boxes) EXPECT_NEAR(box.centre.x(), 4.5, 0.02);
+}
