@@ -54,6 +54,7 @@ FlightConfigs flight_configs(const sensor_replay::MavLog& log, const std::string
   configs.scan_matcher.settings["matcher"]["trim"] = matcher.trim;
   configs.scan_matcher.settings["matcher"]["robust_scale"] = matcher.robust_scale;
   configs.scan_matcher.settings["matcher"]["min_inlier_ratio"] = matcher.min_inlier_ratio;
+  configs.scan_matcher.settings["matcher"]["constant_velocity"] = matcher.constant_velocity;
   const auto& mount = log.meta_of("laser_mount", 6);
   YAML::Node& pose = configs.pose_estimation.settings;
   pose["origin"] = log.meta_of("origin", 3);

@@ -366,28 +366,28 @@ BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double t
   }
   // The boxes are the objects with sides whose size on the ground is nearest the boxes'
   // known footprint: a ridge of ground where the MAV hovered with a wrong height, or a pile
-  // of stray returns, may be larger, but is not box-sized. The area and the longer side are
-  // compared: a strip along a step's edge, which the local ground planes cut off, had a
-  // box's area (1.06 x 0.09 m found beside the boxes over issue 19's steps). Objects without
-  // sides come after those with, so that too few of those still gives a measurement.
+  // of stray returns, may be larger, but is not box-sized. (Only the area is compared: the
+  // width/length ratio P measures is left free.) Objects without sides, or longer than
+  // kLongest boxes, come after the others, so that too few of those still gives a
+  // measurement: a strip along a step's edge, which the local ground planes cut off, had a
+  // box's area (1.06 x 0.09 m beside the boxes over issue 19's steps).
+  constexpr double kLongest = 1.5;                 // times the boxes' length: longer is no box
   std::vector<std::pair<double, size_t>> by_size;  // mismatch, cluster
   std::vector<Spread> spreads;
   for (size_t c = 0; c < clusters.size(); ++c) {
     spreads.push_back(spread_of(*above, clusters[c]));
-    const Eigen::Vector2d& half = spreads.back().half;
-    const double area = 4 * half.x() * half.y(), length = 2 * half.maxCoeff();
-    by_size.emplace_back(std::abs(std::log(area / (truth_width * truth_length))) +
-                             std::abs(std::log(length / std::max(truth_width, truth_length))),
-                         c);
+    const double area = 4 * spreads.back().half.x() * spreads.back().half.y();
+    by_size.emplace_back(std::abs(std::log(area / (truth_width * truth_length))), c);
   }
   std::stable_sort(by_size.begin(), by_size.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  std::vector<size_t> chosen, sideless;
+  std::vector<size_t> chosen, unlike;  // unlike a box: no sides, or too long
   for (const auto& [mismatch, c] : by_size) {
     if (chosen.size() == settings.boxes) break;
-    const bool sides = has_sides(spreads[c], min_height, *centred, above_ground);
-    (sides ? chosen : sideless).push_back(c);
+    const bool box_like = has_sides(spreads[c], min_height, *centred, above_ground) &&
+                          2 * spreads[c].half.maxCoeff() <= kLongest * std::max(truth_width, truth_length);
+    (box_like ? chosen : unlike).push_back(c);
   }
-  for (size_t k = 0; chosen.size() < settings.boxes; ++k) chosen.push_back(sideless[k]);
+  for (size_t k = 0; chosen.size() < settings.boxes; ++k) chosen.push_back(unlike[k]);
   double total = 0;
   for (size_t c : chosen) {
     const pcl::PointIndices& cluster = clusters[c];

@@ -318,7 +318,7 @@ void ScanMatcher::judge(MatchResult& result, const Pose2& increment, size_t poin
 }
 
 // Odometry that jumps (a wheel slipping, a glitch in its stamps) would start the match far
-// off: a guess this unlike the last motion matched is dropped for the constant velocity.
+// off: a guess this unlike the last motion matched is dropped for the prediction.
 std::optional<Pose2> ScanMatcher::plausible(const std::optional<Pose2>& guess) const {
   if (!guess) return guess;
   const Pose2 change = last_taken_.inverse() * *guess;

@@ -1,9 +1,9 @@
 // The MAV paper's quantitative check of a ground model (section 4.1): boxes of known size
 // stand on the ground; find them in the cloud (the paper's ground is flat: here the ground is
 // removed as a plane per half-metre cell, so boxes on a slope or a mound are found the same
-// way; Euclidean clusters, the objects with sides nearest the boxes' known footprint (area
-// and longer side), then those without), fit each one's footprint rectangle and compare its
-// width/length ratio with the truth:
+// way; Euclidean clusters, the objects with sides and at most 1.5 boxes long nearest the
+// boxes' known footprint area, then the others), fit each one's footprint rectangle and
+// compare its width/length ratio with the truth:
 // E = |ratio_measured - ratio_actual| / ratio_actual * 100 %, P = 100 % - E.
 #pragma once
 

@@ -47,7 +47,8 @@ struct MatcherSettings {
                                         // This one for constant velocity (no guess given)
   double guess_weight = 1.0;            // the same when the caller gave a motion guess to add_scan
                                         // (odometry; the node's IMU guess is the IMU's turn with
-                                        // the last increment's translation, all pulled with this)
+                                        // the last increment's translation, none without
+                                        // constant_velocity; all pulled with this)
   double guess_jump = 0.3;              // m, and rad: a motion guess (odometry) this far from, or
   double guess_turn = 20 * M_PI / 180;  // turned this much from, the last taken increment is the
                                         // odometry jumping: more than an indoor robot's motion
