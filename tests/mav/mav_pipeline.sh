@@ -147,12 +147,11 @@ if "ground_error_m" in reference:  # a flight over terrain: the services' cloud 
 if sample:
     assert abs(rmse - base["fused"]) <= max(0.15 * base["fused"], 0.01), "fused height differs from the in-process one"
     assert rmse < base["barometer"], "fused height no better than the barometer alone"
-    if "boxes" in reference:
-        assert window["ok"] and abs(window["performance_percent"] - expected_p) <= 1.0, window
-    assert window["performance_percent"] >= 98.0, window  # a floor: the sweeps' worst seeds reach 97-98 %
 else:
     assert rmse <= 0.5 * best, "fused height not at most half of the better single source"
+if "boxes" in reference:  # scenario IV and the live flight; the other samples have no boxes
     assert window["ok"] and abs(window["performance_percent"] - expected_p) <= 1.0, window
+    assert window["performance_percent"] >= 98.0, window  # a floor: the sweeps' worst seeds reach 97-98 %
 PY
 
 for i in "${!pids[@]}"; do
