@@ -45,16 +45,7 @@ FlightConfigs flight_configs(const sensor_replay::MavLog& log, const std::string
                             topics::kScanMatch.name, topics::kPose.name, topics::kTf.name})
     lossless.qos[topic] = QosSettings{true, false, false, 1000};
   FlightConfigs configs{lossless, lossless, lossless, lossless};
-  const auto matcher = ground_evaluation::mav_matcher_settings();
-  configs.scan_matcher.settings["matcher"]["opening"] = matcher.opening * 180 / M_PI;
-  configs.scan_matcher.settings["matcher"]["max_correspondence"] = matcher.max_correspondence;
-  configs.scan_matcher.settings["matcher"]["map_keyframes"] = matcher.map_keyframes;
-  configs.scan_matcher.settings["matcher"]["map_resolution"] = matcher.map_resolution;
-  configs.scan_matcher.settings["matcher"]["keyframe_distance"] = matcher.keyframe_distance;
-  configs.scan_matcher.settings["matcher"]["trim"] = matcher.trim;
-  configs.scan_matcher.settings["matcher"]["robust_scale"] = matcher.robust_scale;
-  configs.scan_matcher.settings["matcher"]["min_inlier_ratio"] = matcher.min_inlier_ratio;
-  configs.scan_matcher.settings["matcher"]["constant_velocity"] = matcher.constant_velocity;
+  configs.scan_matcher.settings = YAML::Load(ground_evaluation::mav_scan_matcher_config())["scan_matcher"];
   const auto& mount = log.meta_of("laser_mount", 6);
   YAML::Node& pose = configs.pose_estimation.settings;
   pose["origin"] = log.meta_of("origin", 3);

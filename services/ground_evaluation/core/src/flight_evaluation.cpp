@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 
+#include "scanbus/config.hpp"
 #include "scanbus/pose_estimation/pose_estimator.hpp"
 #include "scanbus/transforms/transform_buffer.hpp"
 
@@ -72,19 +73,17 @@ HeightSeries HeightSeries::truth_of(const sensor_replay::MavLog& log) {
   return truth;
 }
 
+const char* mav_scan_matcher_config() {
+  return
+#include "mav_scan_matcher.inc"
+      ;
+}
+
 scan_matcher::MatcherSettings mav_matcher_settings() {
-  scan_matcher::MatcherSettings settings;
-  settings.opening = M_PI / 2;
-  settings.max_correspondence = 0.15;
-  // Pairwise as the paper matches, as config/mav/scan_matcher.yaml says why.
-  settings.map_keyframes = 1;
-  settings.map_resolution = 0;
-  settings.keyframe_distance = 0.1;
-  settings.trim = 0.9;
-  settings.robust_scale = 0;
-  settings.min_inlier_ratio = 0;
-  settings.constant_velocity = false;
-  return settings;
+  return scan_matcher::matcher_settings_from_config(
+      Config::parse(mav_scan_matcher_config(), "config/mav/scan_matcher.yaml")
+          .section("scan_matcher")
+          .section("matcher"));
 }
 
 GroundModelError ground_model_error(const std::vector<Eigen::Vector3f>& cloud,

@@ -23,10 +23,10 @@
 
 namespace scanbus::ground_evaluation {
 
-// The matcher as the MAV flies it (config/services/scan_matcher_mav.yaml): the paper's 90
-// degree opening; correspondences within 15 cm, so a box's top (30 cm above the ground)
-// sweeping into the scan plane finds no partner on the ground and cannot pull the match
-// (scenario IV's height RMSE: 0.12 m at 0.5 m, 0.07 m at 0.15 m).
+// The scan matcher's configuration as the MAV flies it: config/mav/scan_matcher.yaml (the
+// file the deployment reads, compiled in; it says why each setting differs from the default).
+const char* mav_scan_matcher_config();
+// Its `scan_matcher.matcher` section as settings.
 scan_matcher::MatcherSettings mav_matcher_settings();
 
 struct FlightEvaluationSettings {
