@@ -78,9 +78,11 @@ double HeightFusion::add_node(double stamp, std::optional<double> change, const 
   nodes_.emplace_back(stamp, height);
   extend(biases_, stamp, settings_.initial_bias_sigma, settings_.bias_random_walk * std::sqrt(settings_.bias_spacing));
   if (gps_sigma_) {
-    // A first-order Gauss-Markov wander of the fix's sigma: steps of sigma sqrt(2 dt / time).
-    extend(gps_biases_, stamp, *gps_sigma_,
-           *gps_sigma_ * std::sqrt(2 * settings_.bias_spacing / settings_.gps_wander_time));
+    // A first-order Gauss-Markov wander of the fix's sigma: each state decays towards zero, so
+    // the fixes over the whole flight, not the first ones, set the absolute height (a random
+    // walk, as this was, kept the first fixes' error for the flight: 5 cm over a slope).
+    const double decay = std::exp(-settings_.bias_spacing / settings_.gps_wander_time);
+    extend(gps_biases_, stamp, *gps_sigma_, *gps_sigma_ * std::sqrt(1 - decay * decay), decay);
   }
   // Samples up to this node now have nodes on both sides (or at the first node).
   const auto up_to_node = [&](const Sample& sample) { return sample.stamp <= stamp; };
@@ -103,15 +105,16 @@ double HeightFusion::add_node(double stamp, std::optional<double> change, const 
   return states_.at(nodes_.back().second);
 }
 
-// A bias as a random walk with states bias_spacing apart, reaching past `stamp`.
-void HeightFusion::extend(Chain& biases, double stamp, double initial_sigma, double step_sigma) {
+// A bias with states bias_spacing apart, reaching past `stamp`: each state is `decay` times
+// the one before plus a step (1: a random walk; below 1: a first-order Gauss-Markov process).
+void HeightFusion::extend(Chain& biases, double stamp, double initial_sigma, double step_sigma, double decay) {
   while (biases.empty() || biases.back().first < stamp) {
     const double at = biases.empty() ? stamp : biases.back().first + settings_.bias_spacing;
-    const long bias = new_state(biases.empty() ? 0.0 : states_.at(biases.back().second));
+    const long bias = new_state(biases.empty() ? 0.0 : decay * states_.at(biases.back().second));
     if (biases.empty()) {
       residuals_.push_back({{bias}, {1}, 0.0, initial_sigma});
     } else {
-      residuals_.push_back({{biases.back().second, bias}, {-1, 1}, 0.0, step_sigma});
+      residuals_.push_back({{biases.back().second, bias}, {-decay, 1}, 0.0, step_sigma});
     }
     biases.emplace_back(at, bias);
   }

@@ -308,6 +308,31 @@ TEST(HeightFusion, GpsAltitudeCountsAsMuchAsItsFixSays) {
   }
 }
 
+TEST(HeightFusion, TheWholeFlightsFixesSetTheLevelNotTheFirstOnes) {
+  // Slope seed 5, scenario III: the fix's error was +6 cm for the first half minute and about
+  // nothing after; with its bias a random walk, the fused height kept the first fixes' +6 cm
+  // for the whole flight (the ground map holds the level). As a Gauss-Markov wander, the later
+  // fixes bring it back.
+  FusionSettings settings;
+  settings.origin_on_ground = false;
+  HeightFusion fusion(settings);
+  std::mt19937 random(5);
+  std::normal_distribution<double> gauss(0, 1);
+  double error = 0;
+  for (int k = 0; k < 30 * 180; ++k) {
+    const double t = k / 30.0, h = 3.0;
+    if (k % 3 == 0) {
+      fusion.add_barometer(t, h + 0.3 + 0.3 * gauss(random));
+      fusion.add_gps(t, h + (t < 30 ? 0.06 : 0.0) + 0.02 * gauss(random), 0.036);
+    }
+    std::vector<GroundReturn> returns;
+    for (int i = 0; i <= 60; ++i) returns.push_back({{-1.5 + 0.05 * i, 0.0}, h + 0.005 * gauss(random)});
+    error = fusion.add_node(t, k > 0 ? std::optional<double>(0.003 * gauss(random)) : std::nullopt, returns) - h;
+  }
+  std::printf("height error after 180 s: %+.3f m (sigma %.3f m)\n", error, fusion.height_sigma());
+  EXPECT_LT(error, 0.025);  // a random walk: +0.06
+}
+
 TEST(HeightFusion, TheFirstHeightsFollowAnRtkFixNotTheBarometerAlone) {
   // Scenario IV seed 8 at 30.1 Hz: the first two scans came out 0.27 m high (the barometer's
   // take-off offset), stood out of the ground as a 4 m "box" and took box P to 49.6 %.

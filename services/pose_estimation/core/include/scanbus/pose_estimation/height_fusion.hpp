@@ -148,7 +148,7 @@ class HeightFusion {
     double height, sigma;
   };
   long new_state(double initial);
-  void extend(Chain& biases, double stamp, double initial_sigma, double step_sigma);
+  void extend(Chain& biases, double stamp, double initial_sigma, double step_sigma, double decay = 1);
   Linear interpolated(const Sample& sample, const Chain& biases) const;
   void add_barometer_residual(const Sample& sample);
   bool add_ground(double stamp, long height, const std::vector<GroundReturn>& ground);
