@@ -149,6 +149,7 @@ if sample:
     assert rmse < base["barometer"], "fused height no better than the barometer alone"
 else:
     assert rmse <= 0.5 * best, "fused height not at most half of the better single source"
+assert sample or "boxes" in reference, "the live flight's reference has no boxes"
 if "boxes" in reference:  # scenario IV and the live flight; the other samples have no boxes
     assert window["ok"] and abs(window["performance_percent"] - expected_p) <= 1.0, window
     assert window["performance_percent"] >= 98.0, window  # a floor: the sweeps' worst seeds reach 97-98 %

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <mutex>
 #include <optional>
+#include <stdexcept>
 
 #include "cloud_window_client.hpp"
 #include "scanbus/atmosphere.hpp"
@@ -45,7 +46,11 @@ FlightConfigs flight_configs(const sensor_replay::MavLog& log, const std::string
                             topics::kScanMatch.name, topics::kPose.name, topics::kTf.name})
     lossless.qos[topic] = QosSettings{true, false, false, 1000};
   FlightConfigs configs{lossless, lossless, lossless, lossless};
-  configs.scan_matcher.settings = YAML::Load(ground_evaluation::mav_scan_matcher_config())["scan_matcher"];
+  const YAML::Node mav = YAML::Load(ground_evaluation::mav_scan_matcher_config());
+  // A missing section would start the service on the defaults (constant velocity), silently.
+  if (!mav["scan_matcher"].IsMap())
+    throw std::runtime_error("config/mav/scan_matcher.yaml has no scan_matcher section");
+  configs.scan_matcher.settings = mav["scan_matcher"];
   const auto& mount = log.meta_of("laser_mount", 6);
   YAML::Node& pose = configs.pose_estimation.settings;
   pose["origin"] = log.meta_of("origin", 3);

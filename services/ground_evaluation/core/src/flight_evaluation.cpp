@@ -80,10 +80,11 @@ const char* mav_scan_matcher_config() {
 }
 
 scan_matcher::MatcherSettings mav_matcher_settings() {
-  return scan_matcher::matcher_settings_from_config(
+  static const scan_matcher::MatcherSettings settings = scan_matcher::matcher_settings_from_config(
       Config::parse(mav_scan_matcher_config(), "config/mav/scan_matcher.yaml")
           .section("scan_matcher")
           .section("matcher"));
+  return settings;
 }
 
 GroundModelError ground_model_error(const std::vector<Eigen::Vector3f>& cloud,
