@@ -383,8 +383,9 @@ BoxEvaluation evaluate_boxes(const std::vector<Eigen::Vector3f>& cloud, double t
   std::vector<size_t> chosen, unlike;  // unlike a box: no sides, or too long
   for (const auto& [mismatch, c] : by_size) {
     if (chosen.size() == settings.boxes) break;
-    const bool box_like = has_sides(spreads[c], min_height, *centred, above_ground) &&
-                          2 * spreads[c].half.maxCoeff() <= kLongest * std::max(truth_width, truth_length);
+    // The length first: has_sides reads the cloud around the object.
+    const bool box_like = 2 * spreads[c].half.maxCoeff() <= kLongest * std::max(truth_width, truth_length) &&
+                          has_sides(spreads[c], min_height, *centred, above_ground);
     (box_like ? chosen : unlike).push_back(c);
   }
   for (size_t k = 0; chosen.size() < settings.boxes; ++k) chosen.push_back(unlike[k]);
