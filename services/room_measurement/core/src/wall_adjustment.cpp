@@ -18,11 +18,13 @@ constexpr double kDegree = M_PI / 180;
 constexpr size_t kDeviceTerms = 5;  // range bias, lever arm, pitch offset, yaw error's sine and cosine
 constexpr double kHeld = 1e12;      // prior weight that holds an unknown where it is
 
-// One point's equation: a . x = y, touching its wall's offset and turn and the device terms.
+// One point's equation: a . x = y, touching its wall's offset and turn and the device terms,
+// with its weight (its range noise's inverse variance, relative to the noise at 1 m).
 struct Row {
   size_t wall, bin;
   double a[2 + kDeviceTerms];
   double y;
+  double weight;
 };
 
 // The device terms' prior sigmas, in the unknowns' order.
@@ -41,7 +43,9 @@ std::array<double, kDeviceTerms> device_centres(const AdjustmentSettings& settin
 // handed to `use` (a million points' rows would not fit the cache). Bins group a servo step's
 // rays (the same reported pitch): they share its error; numbered as they first appear.
 template <typename Use>
-void for_each_row(const std::vector<WallLine>& walls, double pitch_bin_deg, Use use) {
+void for_each_row(const std::vector<WallLine>& walls, const AdjustmentSettings& settings, Use use) {
+  const double pitch_bin_deg = settings.pitch_bin_deg;
+  const double noise_at_1m = settings.range_noise + settings.range_noise_per_metre;
   constexpr size_t kNoBin = ~size_t{0};
   std::vector<size_t> bin_index(static_cast<size_t>(std::ceil(180 / pitch_bin_deg)) + 2, kNoBin);
   size_t bins = 0;
@@ -66,11 +70,15 @@ void for_each_row(const std::vector<WallLine>& walls, double pitch_bin_deg, Use 
       // o - t (along . p) - b facing sin + L facing cos - e range facing cos
       //   - (s sin + c cos) (n . p across) = n . p.
       const double across = n.dot(Eigen::Vector2d(-on_line.y(), on_line.x()));  // per radian of yaw
+      // Weighted by the range noise (three times as large at 5 m as at 1 m), taken at the
+      // ray's range to the line: from the noisy range, short returns would weigh more.
+      const double noise = settings.range_noise + settings.range_noise_per_metre * on_line.norm();
       use(Row{k,
               bin,
               {1.0, -along.dot(on_line.head<2>()), -facing * sin_pitch, facing * cos_pitch,
                -on_line.norm() * facing * cos_pitch, -across * heading.y(), -across * heading.x()},
-              n.dot(p.head<2>())});
+              n.dot(p.head<2>()),
+              std::pow(noise_at_1m / noise, 2)});
     }
   }
 }
@@ -88,8 +96,8 @@ void add_row(const Row& row, size_t walls, Block& block) {
   size_t u[2 + kDeviceTerms];
   for (size_t i = 0; i < 2 + kDeviceTerms; ++i) u[i] = unknown(row, i, walls);
   for (size_t i = 0; i < 2 + kDeviceTerms; ++i) {
-    for (size_t j = 0; j < 2 + kDeviceTerms; ++j) block.normal(u[i], u[j]) += row.a[i] * row.a[j];
-    block.rhs[u[i]] += row.a[i] * row.y;
+    for (size_t j = 0; j < 2 + kDeviceTerms; ++j) block.normal(u[i], u[j]) += row.weight * row.a[i] * row.a[j];
+    block.rhs[u[i]] += row.weight * row.a[i] * row.y;
   }
 }
 
@@ -105,10 +113,10 @@ struct StepSums {
 
   explicit StepSums(Eigen::Index g) : with_unknowns(Eigen::VectorXd::Zero(g)) {}
   void add(const Row& row, size_t walls) {
-    const double r = row.a[kPitchOffsetCoefficient];
-    for (size_t i = 0; i < 2 + kDeviceTerms; ++i) with_unknowns[unknown(row, i, walls)] += row.a[i] * r;
-    squares += r * r;
-    with_y += r * row.y;
+    const double r = row.a[kPitchOffsetCoefficient], w = row.weight;
+    for (size_t i = 0; i < 2 + kDeviceTerms; ++i) with_unknowns[unknown(row, i, walls)] += w * row.a[i] * r;
+    squares += w * r * r;
+    with_y += w * r * row.y;
   }
   // The step's unknown, with prior weight `prior`, eliminated from its bin's equations.
   void eliminate_from(Block& block, double prior) const { add_elimination(block, -1 / (squares + prior)); }
@@ -133,6 +141,7 @@ struct System {
   Eigen::VectorXd prior;                          // g: diagonal prior weights
   Eigen::VectorXd prior_mean;                     // g: what they pull towards (an inferred wall's line, the device
                                                   // terms' calibrated values; zero otherwise)
+  double variance = 0;                            // of a weighted row about its wall's line (the priors' scale)
 };
 
 // Pitch bin `b`'s sums over every wall.
@@ -142,7 +151,7 @@ StepSums step_sums(const System& system, size_t b) {
   return sums;
 }
 
-System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings& settings, double variance) {
+System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings& settings) {
   const size_t count = walls.size(), g = 2 * count + kDeviceTerms;
   const Block zero{Eigen::MatrixXd::Zero(g, g), Eigen::VectorXd::Zero(g)};
   System system;
@@ -150,7 +159,12 @@ System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings
   // Held at zero with the device terms: the steps would take up a common pitch offset.
   const bool step_unknowns = settings.step_error_prior_deg > 0 && settings.estimate_device;
   const StepSums no_step(static_cast<Eigen::Index>(g));
-  for_each_row(walls, settings.pitch_bin_deg, [&](const Row& row) {
+  double squares = 0, rows = 0;
+  for_each_row(walls, settings, [&](const Row& row) {
+    if (!walls[row.wall].inferred) {
+      squares += row.weight * std::pow(row.y - walls[row.wall].offset, 2);
+      rows += 1;
+    }
     if (row.bin == system.blocks.size()) {
       system.blocks.push_back(zero);
       if (step_unknowns) system.wall_steps.emplace_back(count, no_step);
@@ -159,6 +173,8 @@ System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings
     add_row(row, count, system.wall_shares[row.wall]);
     if (step_unknowns) system.wall_steps[row.bin][row.wall].add(row, count);
   });
+  const double variance = std::max(rows > 0 ? squares / rows : 0.0, 1e-6);
+  system.variance = variance;
   if (step_unknowns) {
     const double sigma = settings.step_error_prior_deg * kDegree;
     system.step_prior = variance / (sigma * sigma);
@@ -414,12 +430,10 @@ void set_device_terms(const Eigen::VectorXd& x, size_t walls, AdjustedWalls& res
 
 AdjustedWalls adjust_walls(const std::vector<WallLine>& walls, const AdjustmentSettings& settings) {
   if (walls.size() < 3) throw std::invalid_argument("adjust_walls needs at least 3 walls");
-  double variance = 0;  // of the seen walls' points
   size_t seen = 0;
-  for (const auto& wall : walls) variance += wall.inferred ? 0 : wall.rms * wall.rms, seen += !wall.inferred;
-  variance /= static_cast<double>(std::max<size_t>(1, seen));
+  for (const auto& wall : walls) seen += !wall.inferred;
   const size_t count = walls.size();
-  const System system = build_system(walls, settings, std::max(variance, 1e-6));
+  const System system = build_system(walls, settings);
   const size_t bins = system.blocks.size();
   const Eigen::VectorXd x = solve(system, std::vector<double>(bins, 1.0));
   if (settings.estimate_device && !device_within_priors(x, count, settings)) {
@@ -428,7 +442,7 @@ AdjustedWalls adjust_walls(const std::vector<WallLine>& walls, const AdjustmentS
     AdjustedWalls alone = adjust_walls(walls, held);
     alone.device_held = true;
     set_device_terms(x, count, alone);  // reported, not applied: what the device would need
-    set_unit_information(system, count, std::max(variance, 1e-6), alone);
+    set_unit_information(system, count, system.variance, alone);
     return alone;
   }
   const Outline best = outline(walls, x);
@@ -440,7 +454,7 @@ AdjustedWalls adjust_walls(const std::vector<WallLine>& walls, const AdjustmentS
   result.lengths = best.lengths;
   result.area = best.area;
   set_device_terms(x, count, result);
-  if (settings.estimate_device) set_unit_information(system, count, std::max(variance, 1e-6), result);
+  if (settings.estimate_device) set_unit_information(system, count, system.variance, result);
   result.length_sigmas.assign(count, 0);
   result.corner_sigmas.assign(count, 0);
   if (settings.bootstrap <= 0 || bins < 2) return result;

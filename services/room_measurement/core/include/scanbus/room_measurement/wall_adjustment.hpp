@@ -4,11 +4,11 @@
 // each point along its ray, a lever arm (the LiDAR's optical centre off the pitch axis) and a
 // pitch error move it across, and a once-per-turn yaw error of the pole (a gear's runout)
 // turns it about the pole by an angle that varies with yaw. All are linear in small
-// corrections, so one least-squares adjustment estimates each wall's line (offset and a small
-// turn) and the device terms from the walls' points, and each servo step's own pitch error
-// (shared by the step's rays) with a prior, eliminated step by step. A point's ray follows
-// from its position: the scanner is at the origin and its pitch counts from the vertical (the
-// thesis's eq. 3.10-3.12).
+// corrections, so one least-squares adjustment (each point weighted by its range noise)
+// estimates each wall's line (offset and a small turn) and the device terms from the walls'
+// points, and each servo step's own pitch error (shared by the step's rays) with a prior,
+// eliminated step by step. A point's ray follows from its position: the scanner is at the
+// origin and its pitch counts from the vertical (the thesis's eq. 3.10-3.12).
 //
 // Uncertainty: a bootstrap over pitch bins (whole revolutions, whose errors are shared) for
 // noise and neighbouring points' correlation, or a jackknife over the walls for how far the
@@ -37,7 +37,8 @@ struct AdjustmentSettings {
                                    // that is wider: a far wall's noise (5-7 cm at 5-7 m) cut at 5 cm
                                    // left its fit where it started (near-wall rooms' far walls 4 cm off)
   // The range noise, one sigma, at zero range and its growth per metre: LIDAR-Lite v3 as the
-  // thesis quotes its reference [2] (2.12 cm at 1.5 m, 3.51 cm at 3 m).
+  // thesis quotes its reference [2] (2.12 cm at 1.5 m, 3.51 cm at 3 m). Also each point's
+  // weight in the fit (only its shape counts: a unit noisier throughout weighs the same).
   double range_noise = 0.0073;            // m
   double range_noise_per_metre = 0.0093;  // m per m of range
   double pitch_bin_deg = 1.0;             // one servo step: its rays share the step's own pitch error (one
