@@ -96,8 +96,9 @@ void add_row(const Row& row, size_t walls, Block& block) {
   size_t u[2 + kDeviceTerms];
   for (size_t i = 0; i < 2 + kDeviceTerms; ++i) u[i] = unknown(row, i, walls);
   for (size_t i = 0; i < 2 + kDeviceTerms; ++i) {
-    for (size_t j = 0; j < 2 + kDeviceTerms; ++j) block.normal(u[i], u[j]) += row.weight * row.a[i] * row.a[j];
-    block.rhs[u[i]] += row.weight * row.a[i] * row.y;
+    const double weighted = row.weight * row.a[i];
+    for (size_t j = 0; j < 2 + kDeviceTerms; ++j) block.normal(u[i], u[j]) += weighted * row.a[j];
+    block.rhs[u[i]] += weighted * row.y;
   }
 }
 
