@@ -78,7 +78,7 @@ void for_each_row(const std::vector<WallLine>& walls, const AdjustmentSettings& 
               {1.0, -along.dot(on_line.head<2>()), -facing * sin_pitch, facing * cos_pitch,
                -on_line.norm() * facing * cos_pitch, -across * heading.y(), -across * heading.x()},
               n.dot(p.head<2>()),
-              std::pow(noise_at_1m / noise, 2)});
+              noise > 0 ? std::pow(noise_at_1m / noise, 2) : 1.0});  // no noise model: equal weights
     }
   }
 }
@@ -402,7 +402,7 @@ bool device_within_priors(const Eigen::VectorXd& x, size_t walls, const Adjustme
 }
 
 // The unit's terms (the first three device terms) as the points alone see them: their priors
-// taken out, every other unknown eliminated (a Schur complement), scaled by the points' variance.
+// taken out, every other unknown eliminated (a Schur complement), scaled by the weighted rows' variance.
 void set_unit_information(const System& system, size_t walls, double variance, AdjustedWalls& result) {
   Block all = all_of(system);
   const Eigen::Index g = all.rhs.size(), first = static_cast<Eigen::Index>(2 * walls);
