@@ -787,6 +787,16 @@ TEST(WallAdjustment, EachPointWeighsByItsRangeNoise) {
   EXPECT_LT(std::sqrt(squares / lengths), 0.0042) << "rms length error over 20 noise draws";
 }
 
+// A configuration without a noise model (both terms zero: the band alone) weighs the points
+// equally; 0 / 0 made every wall NaN.
+TEST(WallAdjustment, NoNoiseModelWeighsThePointsEqually) {
+  AdjustmentSettings settings;
+  settings.range_noise = settings.range_noise_per_metre = 0;
+  const auto adjusted = adjust_walls(scanned_box_walls({0, 0, 0, 0.02}), settings);
+  EXPECT_LT(worst_length_error(adjusted), 0.005);
+  for (double sigma : adjusted.length_sigmas) EXPECT_TRUE(std::isfinite(sigma) && sigma > 0);
+}
+
 TEST(WallAdjustment, NoiseDoesNotBiasIt) {
   AdjustmentSettings settings;
   settings.bootstrap = 0;
