@@ -152,6 +152,25 @@ nlohmann::json calibration_json(const room_evaluation::SweepCalibration& s) {
            {{"estimate", c.pitch_offset}, {"sigma", c.pitch_offset_sigma}, {"truth", s.true_pitch_offset}}}};
 }
 
+nlohmann::json unit_json(const sim::HardwareSettings& unit) {
+  const auto& e = unit.errors;
+  return {{"range_noise_m", unit.range_noise},   {"range_noise_per_m", e.range_noise_per_m},
+          {"range_bias_m", e.range_bias},        {"lever_arm_m", e.lever_arm},
+          {"servo_offset_rad", e.servo_offset},  {"servo_step_error_rad", e.servo_error},
+          {"yaw_runout_rad", e.yaw_eccentricity}};
+}
+
+void print_unit(const sim::HardwareSettings& unit, unsigned unit_seed) {
+  const auto& e = unit.errors;
+  constexpr double kDegree = M_PI / 180;
+  std::printf(
+      "unit %u (simulated): range noise %.2f cm + %.2f cm per m, range bias %+.1f mm (added to every range), lever arm "
+      "%.1f mm, servo offset "
+      "%+.3f deg, each step %.2f deg (one sigma), gear runout %.3f deg\n",
+      unit_seed, 100 * unit.range_noise, 100 * e.range_noise_per_m, 1e3 * e.range_bias, 1e3 * e.lever_arm,
+      e.servo_offset / kDegree, e.servo_error / kDegree, e.yaw_eccentricity / kDegree);
+}
+
 void print_calibration(const room_evaluation::SweepCalibration& s, unsigned first_seed) {
   const auto& c = s.calibration;
   constexpr double kDegree = M_PI / 180;
@@ -204,9 +223,12 @@ int run_eval_rooms(const EvalRoomsOptions& options) {
     for (const auto& s : summaries) out["summary"].push_back(summary_json(s));
     for (const auto& c : cases) out["rooms"].push_back(case_json(c));
     if (calibration) out["calibration"] = calibration_json(*calibration);
+    if (options.sweep.unit_seed != 0) out["unit"] = unit_json(room_evaluation::unit_of(options.sweep.unit_seed));
     std::cout << out.dump() << "\n";
     return 0;
   }
+  if (options.sweep.unit_seed != 0)
+    print_unit(room_evaluation::unit_of(options.sweep.unit_seed), options.sweep.unit_seed);
   if (calibration) print_calibration(*calibration, *options.calibrate_on);
   if (options.cases)
     for (const auto& c : cases) {

@@ -125,7 +125,8 @@ expect_exit 2 "unknown key 'room_measurement.voxel_leef'" -- "$scanbus" room mea
 # `room calibrate`: one simulated unit's scans of ten rooms give its terms and the config that
 # applies them; a file that cannot be read is named, the others still calibrate (exit 2).
 "$scanbus" eval rooms --seed 3001 --count 10 --category box doors windows furniture near_wall --unit-seed 9 \
-  --out "$work/unit" > /dev/null || fail "eval rooms --unit-seed"
+  --out "$work/unit" > "$work/unit.txt" || fail "eval rooms --unit-seed"
+grep -q "^unit 9 (simulated): range noise " "$work/unit.txt" || { head -3 "$work/unit.txt"; fail "eval rooms did not say what unit 9 is"; }
 "$scanbus" room calibrate "$work"/unit/*.pcd > "$work/calibration.txt" || fail "room calibrate exit $?"
 sed -n '/^room_measurement:/,$p' "$work/calibration.txt" > "$work/unit.yaml"
 grep -q "range_bias: " "$work/unit.yaml" || { cat "$work/calibration.txt"; fail "room calibrate printed no config"; }

@@ -268,14 +268,10 @@ RoomCase evaluate_room(const sim::GeneratedRoom& generated, const room_measureme
   return c;
 }
 
-namespace {
-
 sim::HardwareSettings unit_of(unsigned unit_seed) {
   std::mt19937 random(unit_seed);
   return sim::draw_hardware(random);
 }
-
-}  // namespace
 
 SweepCalibration calibrate_on(const std::vector<RoomCase>& cases, unsigned unit_seed) {
   std::vector<room_measurement::DeviceEstimate> scans;

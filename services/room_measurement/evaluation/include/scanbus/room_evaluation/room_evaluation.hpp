@@ -93,6 +93,8 @@ struct SweepCalibration {
   double true_range_bias = 0, true_lever_arm = 0, true_pitch_offset = 0;
 };
 SweepCalibration calibrate_on(const std::vector<RoomCase>& cases, unsigned unit_seed);
+// The simulated unit `--unit-seed` scans with: its errors, as the simulator draws them.
+sim::HardwareSettings unit_of(unsigned unit_seed);
 
 struct SweepSummary {
   std::string category;  // "all" for the whole sweep
