@@ -164,9 +164,8 @@ void print_unit(const sim::HardwareSettings& unit, unsigned unit_seed) {
   const auto& e = unit.errors;
   constexpr double kDegree = M_PI / 180;
   std::printf(
-      "unit %u (simulated): range noise %.2f cm + %.2f cm per m, range bias %+.1f mm (added to every range), lever arm "
-      "%.1f mm, servo offset "
-      "%+.3f deg, each step %.2f deg (one sigma), gear runout %.3f deg\n",
+      "unit %u (simulated): range noise %.2f cm + %.2f cm per m, range bias %+.1f mm (added to every range), "
+      "lever arm %.1f mm, servo offset %+.3f deg, each step %.2f deg (one sigma), gear runout %.3f deg\n",
       unit_seed, 100 * unit.range_noise, 100 * e.range_noise_per_m, 1e3 * e.range_bias, 1e3 * e.lever_arm,
       e.servo_offset / kDegree, e.servo_error / kDegree, e.yaw_eccentricity / kDegree);
 }
