@@ -155,7 +155,7 @@ nlohmann::json calibration_json(const room_evaluation::SweepCalibration& s) {
 nlohmann::json unit_json(const sim::HardwareSettings& unit) {
   const auto& e = unit.errors;
   return {{"range_noise_m", unit.range_noise},   {"range_noise_per_m", e.range_noise_per_m},
-          {"range_bias_m", e.range_bias},        {"lever_arm_m", e.lever_arm},
+          {"range_bias_added_m", e.range_bias},  {"lever_arm_m", e.lever_arm},
           {"servo_offset_rad", e.servo_offset},  {"servo_step_error_rad", e.servo_error},
           {"yaw_runout_rad", e.yaw_eccentricity}};
 }
