@@ -22,6 +22,8 @@ namespace scanbus::cli {
 
 namespace {
 
+constexpr double kDegree = M_PI / 180;
+
 struct EvalRoomsOptions {
   room_evaluation::SweepOptions sweep;
   std::optional<unsigned> calibrate_on;  // first seed of the unit's calibration sweep
@@ -162,7 +164,6 @@ nlohmann::json unit_json(const sim::HardwareSettings& unit) {
 
 void print_unit(const sim::HardwareSettings& unit, unsigned unit_seed) {
   const auto& e = unit.errors;
-  constexpr double kDegree = M_PI / 180;
   std::printf(
       "unit %u (simulated): range noise %.2f cm + %.2f cm per m, range bias %+.1f mm (added to every range), "
       "lever arm %.1f mm, servo offset %+.3f deg, each step %.2f deg (one sigma), gear runout %.3f deg\n",
@@ -172,7 +173,6 @@ void print_unit(const sim::HardwareSettings& unit, unsigned unit_seed) {
 
 void print_calibration(const room_evaluation::SweepCalibration& s, unsigned first_seed) {
   const auto& c = s.calibration;
-  constexpr double kDegree = M_PI / 180;
   std::printf(
       "unit calibrated on %zu of its scans (%zu left out; seeds %u on): range bias %+.1f mm (+-%.1f; the unit's own "
       "%+.1f), lever arm %+.1f mm (+-%.1f; %+.1f), servo offset %+.3f deg (+-%.3f; %+.3f); the scans disagree %.1f "
