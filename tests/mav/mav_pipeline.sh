@@ -16,11 +16,12 @@
 #   mav_pipeline.sh SCANBUS CONFIG SAMPLE    a recorded sample (tests/data/*.mcap, truth
 #       on rt/truth/pose) replayed by 'scanbus replay'; asserts that the services give what
 #       'scanbus eval mav' gives in one process on the same sample (fused RMSE within 15 %
-#       or 1 cm, box P no more than 1 point below) and that the fused height beats the barometer's. Over
-#       terrain (the log's META carries its ground) also the window cloud's height error
-#       against the true ground ('scanbus eval ground'): within 15 % or 1 cm of the
-#       in-process one, under 10 cm, and the terrain's tilt within 20 %; and the elevation
-#       grid on rt/cloud/elevation against it, within 15 % or 1 cm of the in-process grid's.
+#       or 1 cm, box P no more than 1 point below) and that the fused height beats the
+#       barometer's. Over terrain (the log's META carries its ground) also the window
+#       cloud's height error against the true ground ('scanbus eval ground'): within 15 % or
+#       1 cm of the in-process one, under 10 cm, and the terrain's tilt within 20 %; and the
+#       elevation grid on rt/cloud/elevation against it, within 15 % or 1 cm of the
+#       in-process grid's.
 set -uo pipefail
 source "$(dirname "$0")/../integration/lib.sh"
 scanbus=$1
