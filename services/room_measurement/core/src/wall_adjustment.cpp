@@ -120,43 +120,27 @@ struct StepSums {
     with_y += w * r * row.y;
   }
   // The step's unknown, with prior weight `prior`, eliminated from its bin's equations.
-  void eliminate_from(Block& block, double prior) const { add_elimination(block, -1 / (squares + prior)); }
-  // An elimination from `block` undone.
-  void restore_to(Block& block, double prior) const { add_elimination(block, 1 / (squares + prior)); }
-  void add_elimination(Block& block, double scale) const {
+  void eliminate_from(Block& block, double prior) const {
+    const double scale = -1 / (squares + prior);
     block.normal += scale * with_unknowns * with_unknowns.transpose();
     block.rhs += scale * with_y * with_unknowns;
-  }
-  void add(const StepSums& part, double sign = 1) {
-    with_unknowns += sign * part.with_unknowns;
-    squares += sign * part.squares;
-    with_y += sign * part.with_y;
   }
 };
 
 struct System {
-  std::vector<Block> blocks;                      // per pitch bin, each servo step's error eliminated
-  std::vector<Block> wall_shares;                 // per wall (the jackknife leaves one out), no step eliminated
-  std::vector<std::vector<StepSums>> wall_steps;  // per pitch bin, per wall; empty without step unknowns
-  double step_prior = 0;                          // the steps' prior weight; 0: no step unknowns
-  Eigen::VectorXd prior;                          // g: diagonal prior weights
-  Eigen::VectorXd prior_mean;                     // g: what they pull towards (an inferred wall's line, the device
-                                                  // terms' calibrated values; zero otherwise)
-  double variance = 0;                            // of a weighted row about its wall's line (the priors' scale)
+  std::vector<Block> blocks;    // per pitch bin, each servo step's error eliminated
+  std::vector<StepSums> steps;  // per pitch bin; empty without step unknowns
+  double step_prior = 0;        // the steps' prior weight; 0: no step unknowns
+  Eigen::VectorXd prior;        // g: diagonal prior weights
+  Eigen::VectorXd prior_mean;   // g: what they pull towards (an inferred wall's line, the device
+                                // terms' calibrated values; zero otherwise)
+  double variance = 0;          // of a weighted row about its wall's line (the priors' scale)
 };
-
-// Pitch bin `b`'s sums over every wall.
-StepSums step_sums(const System& system, size_t b) {
-  StepSums sums(system.wall_steps[b].front().with_unknowns.size());
-  for (const auto& wall : system.wall_steps[b]) sums.add(wall);
-  return sums;
-}
 
 System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings& settings) {
   const size_t count = walls.size(), g = 2 * count + kDeviceTerms;
   const Block zero{Eigen::MatrixXd::Zero(g, g), Eigen::VectorXd::Zero(g)};
   System system;
-  system.wall_shares.assign(count, zero);
   // Held at zero with the device terms: the steps would take up a common pitch offset.
   const bool step_unknowns = settings.step_error_prior_deg > 0 && settings.estimate_device;
   const StepSums no_step(static_cast<Eigen::Index>(g));
@@ -168,11 +152,10 @@ System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings
     }
     if (row.bin == system.blocks.size()) {
       system.blocks.push_back(zero);
-      if (step_unknowns) system.wall_steps.emplace_back(count, no_step);
+      if (step_unknowns) system.steps.push_back(no_step);
     }
     add_row(row, count, system.blocks[row.bin]);
-    add_row(row, count, system.wall_shares[row.wall]);
-    if (step_unknowns) system.wall_steps[row.bin][row.wall].add(row, count);
+    if (step_unknowns) system.steps[row.bin].add(row, count);
   });
   const double variance = std::max(rows > 0 ? squares / rows : 0.0, 1e-6);
   system.variance = variance;
@@ -180,7 +163,7 @@ System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings
     const double sigma = settings.step_error_prior_deg * kDegree;
     system.step_prior = variance / (sigma * sigma);
     for (size_t b = 0; b < system.blocks.size(); ++b)
-      step_sums(system, b).eliminate_from(system.blocks[b], system.step_prior);
+      system.steps[b].eliminate_from(system.blocks[b], system.step_prior);
   }
   system.prior = Eigen::VectorXd::Zero(g);
   system.prior_mean = Eigen::VectorXd::Zero(g);
@@ -267,11 +250,6 @@ struct Spread {
     for (size_t i = 0; i < lengths.size(); ++i) lengths[i] += other.lengths[i], corners[i] += other.corners[i];
     area += other.area;
   }
-  void take_larger(const Spread& other) {
-    for (size_t i = 0; i < lengths.size(); ++i)
-      lengths[i] = std::max(lengths[i], other.lengths[i]), corners[i] = std::max(corners[i], other.corners[i]);
-    area = std::max(area, other.area);
-  }
 };
 
 // The outlines' variance about their mean, times `scale`.
@@ -294,57 +272,20 @@ Spread variance_of(const std::vector<Outline>& outlines, size_t count, double sc
   return spread;
 }
 
-// Noise and the correlation of a servo step's points: a bootstrap over pitch bins, with a
-// fixed seed (the same cloud gives the same sigmas).
-Spread bootstrap_spread(const System& system, const std::vector<WallLine>& walls, int replicates) {
+// Noise, the correlation of a servo step's points and the device terms' estimate: a bootstrap
+// over pitch bins, with a fixed seed (the same cloud gives the same sigmas), widened by
+// settings.bootstrap_scale.
+Spread bootstrap_spread(const System& system, const std::vector<WallLine>& walls, const AdjustmentSettings& settings) {
   const size_t bins = system.blocks.size();
   std::mt19937 random(1);
   std::uniform_int_distribution<size_t> pick(0, bins - 1);
   std::vector<Outline> outlines;
-  for (int b = 0; b < replicates; ++b) {
+  for (int b = 0; b < settings.bootstrap; ++b) {
     std::vector<double> weights(bins, 0);
     for (size_t i = 0; i < bins; ++i) weights[pick(random)] += 1;
     outlines.push_back(outline(walls, solve(system, weights)));
   }
-  return variance_of(outlines, walls.size(), 1.0);
-}
-
-// The full fit's equations with wall `k`'s points taken out, the steps' errors eliminated
-// again from what is left (the wall's points no longer inform them).
-Block without_wall(const System& system, const Block& total, size_t k) {
-  Block others{total.normal - system.wall_shares[k].normal, total.rhs - system.wall_shares[k].rhs};
-  if (system.step_prior <= 0) return others;
-  for (size_t b = 0; b < system.wall_steps.size(); ++b) {
-    if (system.wall_steps[b][k].squares == 0) continue;  // the wall has no rays in this step
-    StepSums rest = step_sums(system, b);
-    rest.restore_to(others, system.step_prior);
-    rest.add(system.wall_steps[b][k], -1);
-    rest.eliminate_from(others, system.step_prior);
-  }
-  return others;
-}
-
-// How well the walls agree on the device's errors: a jackknife over the seen walls, each
-// left out of the device terms' estimate in turn (its own line pinned where the full fit put
-// it), then every wall re-solved with the device terms held at that estimate. Where a few
-// walls see the device's signature from similar angles (an L or T seen from one arm), the
-// estimate rests on them and this spread grows; a bootstrap over points never sees it.
-Spread wall_jackknife_spread(const System& system, const std::vector<WallLine>& walls, const Eigen::VectorXd& x) {
-  const size_t count = walls.size(), g = static_cast<size_t>(x.size()), device = 2 * count;
-  const Block total = all_of(system);
-  auto pinned = [](Eigen::MatrixXd normal, Eigen::VectorXd rhs, size_t from, size_t to, const Eigen::VectorXd& at) {
-    for (size_t i = from; i < to; ++i) normal(i, i) += kHeld, rhs[i] += kHeld * at[i];
-    return Eigen::VectorXd(normal.ldlt().solve(rhs));
-  };
-  std::vector<Outline> outlines;
-  for (size_t k = 0; k < count; ++k) {
-    if (walls[k].inferred) continue;
-    const Block others_equations = without_wall(system, total, k);
-    const Eigen::VectorXd others = pinned(others_equations.normal, others_equations.rhs, 2 * k, 2 * k + 2, x);
-    outlines.push_back(outline(walls, pinned(total.normal, total.rhs, device, g, others)));
-  }
-  const double n = static_cast<double>(outlines.size());
-  return variance_of(outlines, count, n - 1);  // the jackknife's (n - 1) / n sum of squares
+  return variance_of(outlines, walls.size(), settings.bootstrap_scale * settings.bootstrap_scale);
 }
 
 // What the data cannot pin down, each term moved by its sigma and the walls re-solved: the
@@ -431,8 +372,6 @@ void set_device_terms(const Eigen::VectorXd& x, size_t walls, AdjustedWalls& res
 
 AdjustedWalls adjust_walls(const std::vector<WallLine>& walls, const AdjustmentSettings& settings) {
   if (walls.size() < 3) throw std::invalid_argument("adjust_walls needs at least 3 walls");
-  size_t seen = 0;
-  for (const auto& wall : walls) seen += !wall.inferred;
   const size_t count = walls.size();
   const System system = build_system(walls, settings);
   const size_t bins = system.blocks.size();
@@ -460,8 +399,7 @@ AdjustedWalls adjust_walls(const std::vector<WallLine>& walls, const AdjustmentS
   result.corner_sigmas.assign(count, 0);
   if (settings.bootstrap <= 0 || bins < 2) return result;
 
-  Spread spread = bootstrap_spread(system, walls, settings.bootstrap);
-  if (settings.estimate_device && seen >= 3) spread.take_larger(wall_jackknife_spread(system, walls, x));
+  Spread spread = bootstrap_spread(system, walls, settings);
   spread.add(prior_spread(system, walls, x, settings));
   for (size_t i = 0; i < count; ++i) {
     result.length_sigmas[i] = std::sqrt(spread.lengths[i]);

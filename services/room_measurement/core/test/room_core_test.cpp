@@ -757,8 +757,8 @@ TEST(WallAdjustment, ServoStepsOwnPitchErrorsDoNotBendTheWalls) {
                                      << without << " m";
 }
 
-// The sigmas with the steps' errors eliminated (the jackknife over walls eliminates them again
-// without each wall): positive, under a centimetre in a 5 x 3.5 m box with 2 cm range noise,
+// The sigmas with the steps' errors eliminated (the bootstrap re-solves each replicate's
+// reduced equations): positive, under a centimetre in a 5 x 3.5 m box with 2 cm range noise,
 // and the errors within 3 of them.
 TEST(WallAdjustment, SigmasHoldWithTheStepsErrorsEstimated) {
   AdjustmentSettings settings;
@@ -769,6 +769,23 @@ TEST(WallAdjustment, SigmasHoldWithTheStepsErrorsEstimated) {
     EXPECT_LT(adjusted.length_sigmas[i], 0.01) << i;
     EXPECT_LT(std::abs(adjusted.lengths[i] - truth[i]), 3 * adjusted.length_sigmas[i]) << i;
   }
+}
+
+// The bootstrap's sigmas are widened by bootstrap_scale alone: with the device terms estimated
+// and every wall seen, nothing else enters a length's sigma.
+TEST(WallAdjustment, BootstrapScaleWidensEverySigmaByItself) {
+  AdjustmentSettings settings;
+  settings.bootstrap_scale = 1.0;
+  const auto walls = scanned_box_walls({0.005, 0, 0, 0.02});
+  const auto plain = adjust_walls(walls, settings);
+  settings.bootstrap_scale = 1.5;
+  const auto widened = adjust_walls(walls, settings);
+  for (size_t i = 0; i < 4; ++i) {
+    EXPECT_NEAR(widened.length_sigmas[i], 1.5 * plain.length_sigmas[i], 1e-12) << i;
+    EXPECT_NEAR(widened.corner_sigmas[i], 1.5 * plain.corner_sigmas[i], 1e-12) << i;
+    EXPECT_EQ(widened.lengths[i], plain.lengths[i]) << i;
+  }
+  EXPECT_NEAR(widened.area_sigma, 1.5 * plain.area_sigma, 1e-12);
 }
 
 // The far wall's points are noisier (a LIDAR-Lite's noise grows with range; here steeper than
