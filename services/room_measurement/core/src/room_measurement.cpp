@@ -753,7 +753,7 @@ RoomSettings room_settings_from_config(const Config& section) {
       adjustment.number("pitch_offset", s.adjustment.calibrated_pitch_offset_deg, -45, 45);
 
   s.adjustment.bootstrap = static_cast<int>(adjustment.integer("bootstrap", s.adjustment.bootstrap, 0, 100000));
-  s.adjustment.bootstrap_scale = adjustment.number("bootstrap_scale", s.adjustment.bootstrap_scale, 0.1, 10);
+  s.adjustment.bootstrap_scale = adjustment.number("bootstrap_scale", s.adjustment.bootstrap_scale, 0.5, 3);
   s.opening_min_width = section.number("opening_min_width", s.opening_min_width, 0.01, 100);
   s.recess_depth = section.number("recess_depth", s.recess_depth, 0, 100);
   s.opening_beyond = section.number("opening_beyond", s.opening_beyond, 0.01, 100);

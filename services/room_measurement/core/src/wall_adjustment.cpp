@@ -272,7 +272,8 @@ Spread variance_of(const std::vector<Outline>& outlines, size_t count, double sc
   return spread;
 }
 
-// Noise, the correlation of a servo step's points and the device terms' estimate: a bootstrap
+// Noise, the correlation of a servo step's points and the device terms' estimate (when they are
+// estimated): a bootstrap
 // over pitch bins, with a fixed seed (the same cloud gives the same sigmas), widened by
 // settings.bootstrap_scale.
 Spread bootstrap_spread(const System& system, const std::vector<WallLine>& walls, const AdjustmentSettings& settings) {

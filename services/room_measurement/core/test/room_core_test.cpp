@@ -552,11 +552,18 @@ TEST(RoomSettings, FromConfigWithValidation) {
   EXPECT_EQ(settings.histogram.bins, 50);
   EXPECT_NO_THROW(config.check_all_read());
   const auto calibrated = scanbus::Config::parse(
-      "room_measurement:\n  adjustment: {range_bias: -0.012, lever_arm: 0.02, pitch_offset: 0.3}\n", "r.yaml");
+      "room_measurement:\n  adjustment: {range_bias: -0.012, lever_arm: 0.02, pitch_offset: 0.3, bootstrap_scale: "
+      "1.3}\n",
+      "r.yaml");
   const auto unit = room_settings_from_config(calibrated.section("room_measurement")).adjustment;
   EXPECT_EQ(unit.calibrated_range_bias, -0.012);
   EXPECT_EQ(unit.calibrated_lever_arm, 0.02);
   EXPECT_EQ(unit.calibrated_pitch_offset_deg, 0.3);
+  EXPECT_EQ(unit.bootstrap_scale, 1.3);
+  EXPECT_THROW(room_settings_from_config(
+                   scanbus::Config::parse("room_measurement:\n  adjustment: {bootstrap_scale: 0}\n", "r.yaml")
+                       .section("room_measurement")),
+               scanbus::ConfigError);
   const auto bad = scanbus::Config::parse("room_measurement:\n  ransac: {distance: -1}\n", "r.yaml");
   EXPECT_THROW(room_settings_from_config(bad.section("room_measurement")), scanbus::ConfigError);
 }
@@ -771,13 +778,15 @@ TEST(WallAdjustment, SigmasHoldWithTheStepsErrorsEstimated) {
   }
 }
 
-// The bootstrap's sigmas are widened by bootstrap_scale alone: with the device terms estimated
-// and every wall seen, nothing else enters a length's sigma.
+// The bootstrap's sigmas are widened by bootstrap_scale, and nothing else: with the device terms
+// estimated, the unit uncalibrated and every wall seen the sigmas are the bootstrap's alone; with
+// the terms held, their priors' part is not widened.
 TEST(WallAdjustment, BootstrapScaleWidensEverySigmaByItself) {
   AdjustmentSettings settings;
   settings.bootstrap_scale = 1.0;
   const auto walls = scanned_box_walls({0.005, 0, 0, 0.02});
   const auto plain = adjust_walls(walls, settings);
+  ASSERT_FALSE(plain.device_held);
   settings.bootstrap_scale = 1.5;
   const auto widened = adjust_walls(walls, settings);
   for (size_t i = 0; i < 4; ++i) {
@@ -786,6 +795,15 @@ TEST(WallAdjustment, BootstrapScaleWidensEverySigmaByItself) {
     EXPECT_EQ(widened.lengths[i], plain.lengths[i]) << i;
   }
   EXPECT_NEAR(widened.area_sigma, 1.5 * plain.area_sigma, 1e-12);
+  settings.estimate_device = false;
+  settings.bootstrap_scale = 1.0;
+  const auto held = adjust_walls(walls, settings);
+  settings.bootstrap_scale = 1.5;
+  const auto held_widened = adjust_walls(walls, settings);
+  for (size_t i = 0; i < 4; ++i) {
+    EXPECT_GT(held_widened.length_sigmas[i], held.length_sigmas[i]) << i;
+    EXPECT_LT(held_widened.length_sigmas[i], 1.5 * held.length_sigmas[i] - 1e-6) << i;
+  }
 }
 
 // The far wall's points are noisier (a LIDAR-Lite's noise grows with range; here steeper than
