@@ -273,9 +273,8 @@ Spread variance_of(const std::vector<Outline>& outlines, size_t count, double sc
 }
 
 // Noise, the correlation of a servo step's points and the device terms' estimate (when they are
-// estimated): a bootstrap
-// over pitch bins, with a fixed seed (the same cloud gives the same sigmas), widened by
-// settings.bootstrap_scale.
+// estimated): a bootstrap over pitch bins, with a fixed seed (the same cloud gives the same
+// sigmas), widened by settings.bootstrap_scale.
 Spread bootstrap_spread(const System& system, const std::vector<WallLine>& walls, const AdjustmentSettings& settings) {
   const size_t bins = system.blocks.size();
   std::mt19937 random(1);

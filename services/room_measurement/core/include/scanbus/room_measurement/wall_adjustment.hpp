@@ -11,9 +11,10 @@
 // origin and its pitch counts from the vertical (the thesis's eq. 3.10-3.12).
 //
 // Uncertainty: a bootstrap over pitch bins (whole revolutions, whose errors are shared) for
-// noise, neighbouring points' correlation and the device terms' estimate (when estimated), widened by a
-// calibrated factor; plus each term the data cannot pin down (an inferred wall's placement;
-// the device terms when they are not estimated) moved by its sigma and propagated to the walls.
+// noise, neighbouring points' correlation and the device terms' estimate (when estimated),
+// widened by a calibrated factor; plus each term the data cannot pin down (an inferred wall's
+// placement; the device terms when they are not estimated) moved by its sigma and propagated
+// to the walls.
 #pragma once
 
 #include <Eigen/Core>
