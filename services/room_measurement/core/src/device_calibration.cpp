@@ -106,8 +106,8 @@ void apply_calibration(const UnitCalibration& calibration, AdjustmentSettings& s
   settings.calibrated_pitch_offset_deg = calibration.pitch_offset / kDegree;
   // The servo's own error at each commanded angle is the same in every scan and leaks into the
   // terms the same way, where no disagreement between scans shows it: over ten simulated units
-  // the pooled terms lay up to 1.3 mm, 0.7 mm and 0.2 degree from the units' own
-  // (docs/room_evaluation.md). The priors are not let below kMinimumPriors.
+  // the pooled terms lay up to 1.5 mm, 0.7 mm and 0.2 degree from the units' own (two builds;
+  // docs/room_evaluation.md). The priors are not let below kMinimumPriors.
   settings.range_bias_prior = std::max(kMinimumPriors.range_bias, calibration.range_bias_sigma);
   settings.lever_arm_prior = std::max(kMinimumPriors.lever_arm, calibration.lever_arm_sigma);
   settings.pitch_error_prior_deg = std::max(kMinimumPriors.pitch_offset_deg, calibration.pitch_offset_sigma / kDegree);
