@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -24,10 +25,12 @@ FlightEvaluation two_poses_and_a_fused_cloud() {
   return evaluation;
 }
 
+// One per process: ctest runs each test as a process beside another, and gtest's random seed
+// (the time in milliseconds) once gave two of them the same folder, which the first to finish
+// removed under the other (a sanitizer run in CI: "not a readable pcd file").
 struct TemporaryFolder {
   std::filesystem::path path =
-      std::filesystem::temp_directory_path() /
-      ("flight_files_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+      std::filesystem::temp_directory_path() / ("flight_files_test_" + std::to_string(::getpid()));
   TemporaryFolder() { std::filesystem::create_directories(path); }
   ~TemporaryFolder() { std::filesystem::remove_all(path); }
 };
