@@ -122,11 +122,12 @@ int run_calibrate(const CalibrateOptions& options) {
     std::printf(
         "\nthe unit's own terms from %zu scans (%zu left out, far from the others): range bias %+.2f mm (+-%.2f), "
         "lever arm %+.2f mm (+-%.2f), servo offset %+.3f deg (+-%.3f); the scans disagree %.1f times over their "
-        "information. The sigmas leave out the servo's own error at each step, the same in every scan: the config's "
-        "priors are at least %.0f mm, %.0f mm and %.1f deg (docs/room_evaluation.md). For its config:\n\n%s",
+        "information. The sigmas carry the servo's own error at each step (the same in every scan) at the steps' "
+        "%.1f deg prior; the config's priors are at least %.0f mm, %.0f mm and %.1f deg (docs/room_evaluation.md). "
+        "For its config:\n\n%s",
         calibration.scans, calibration.rejected, 1e3 * calibration.range_bias, 1e3 * calibration.range_bias_sigma,
         1e3 * calibration.lever_arm, 1e3 * calibration.lever_arm_sigma, calibration.pitch_offset * 180 / M_PI,
-        calibration.pitch_offset_sigma * 180 / M_PI, calibration.scatter,
+        calibration.pitch_offset_sigma * 180 / M_PI, calibration.scatter, settings.adjustment.step_error_prior_deg,
         1e3 * room_measurement::kMinimumPriors.range_bias, 1e3 * room_measurement::kMinimumPriors.lever_arm,
         room_measurement::kMinimumPriors.pitch_offset_deg, yaml.c_str());
   }

@@ -148,10 +148,21 @@ nlohmann::json calibration_json(const room_evaluation::SweepCalibration& s) {
   return {{"scans", c.scans},
           {"rejected", c.rejected},
           {"scatter", c.scatter},
-          {"range_bias_m", {{"estimate", c.range_bias}, {"sigma", c.range_bias_sigma}, {"truth", s.true_range_bias}}},
-          {"lever_arm_m", {{"estimate", c.lever_arm}, {"sigma", c.lever_arm_sigma}, {"truth", s.true_lever_arm}}},
+          {"range_bias_m",
+           {{"estimate", c.range_bias},
+            {"sigma", c.range_bias_sigma},
+            {"servo_sigma", c.servo_sigmas[0]},
+            {"truth", s.true_range_bias}}},
+          {"lever_arm_m",
+           {{"estimate", c.lever_arm},
+            {"sigma", c.lever_arm_sigma},
+            {"servo_sigma", c.servo_sigmas[1]},
+            {"truth", s.true_lever_arm}}},
           {"pitch_offset_rad",
-           {{"estimate", c.pitch_offset}, {"sigma", c.pitch_offset_sigma}, {"truth", s.true_pitch_offset}}}};
+           {{"estimate", c.pitch_offset},
+            {"sigma", c.pitch_offset_sigma},
+            {"servo_sigma", c.servo_sigmas[2]},
+            {"truth", s.true_pitch_offset}}}};
 }
 
 nlohmann::json unit_json(const sim::HardwareSettings& unit) {

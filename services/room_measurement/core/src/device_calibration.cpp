@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -52,6 +53,18 @@ double misfit_to_others(const DeviceEstimate& scan, const Pooled& pooled, bool p
   return others ? misfit(scan, *others) : 0.0;  // the others alone pin nothing: no judging it
 }
 
+// A servo step's error e moves every kept scan's rhs by its leak times e (in prior sigmas): summed
+// by commanded pitch, the pooled terms move by inverse * sum e, whatever the scans' number.
+Eigen::Matrix3d servo_covariance(const std::vector<const DeviceEstimate*>& scans, const Eigen::Matrix3d& inverse) {
+  std::map<long, Eigen::Vector3d> by_step;
+  for (const auto* scan : scans)
+    for (const auto& leak : scan->unit_step_leaks)
+      by_step.try_emplace(leak.pitch_step, Eigen::Vector3d::Zero()).first->second += leak.unit_rhs;
+  Eigen::Matrix3d leaked = Eigen::Matrix3d::Zero();
+  for (const auto& [step, sum] : by_step) leaked += sum * sum.transpose();
+  return inverse * leaked * inverse;
+}
+
 }  // namespace
 
 UnitCalibration calibrate_unit(const std::vector<DeviceEstimate>& scans) {
@@ -92,7 +105,9 @@ UnitCalibration calibrate_unit(const std::vector<DeviceEstimate>& scans) {
   c.scans = kept.size();
   c.rejected = candidates.size() - kept.size();
   c.scatter = std::max(1.0, chi_square / (3.0 * static_cast<double>(kept.size() - 1)));
-  const Eigen::Vector3d variances = pooled.information.ldlt().solve(Eigen::Matrix3d::Identity()).diagonal() * c.scatter;
+  const Eigen::Matrix3d inverse = pooled.information.ldlt().solve(Eigen::Matrix3d::Identity());
+  c.servo_sigmas = servo_covariance(kept, inverse).diagonal().cwiseSqrt();
+  const Eigen::Vector3d variances = inverse.diagonal() * c.scatter + c.servo_sigmas.cwiseAbs2();
   c.range_bias = pooled.terms[0], c.lever_arm = pooled.terms[1], c.pitch_offset = pooled.terms[2];
   c.range_bias_sigma = std::sqrt(variances[0]);
   c.lever_arm_sigma = std::sqrt(variances[1]);
@@ -104,10 +119,10 @@ void apply_calibration(const UnitCalibration& calibration, AdjustmentSettings& s
   settings.calibrated_range_bias = calibration.range_bias;
   settings.calibrated_lever_arm = calibration.lever_arm;
   settings.calibrated_pitch_offset_deg = calibration.pitch_offset / kDegree;
-  // The servo's own error at each commanded angle is the same in every scan and leaks into the
-  // terms the same way, where no disagreement between scans shows it: over ten simulated units
-  // the pooled terms lay up to 1.5 mm, 0.7 mm and 0.2 degree from the units' own (two builds;
-  // docs/room_evaluation.md). The priors are not let below kMinimumPriors.
+  // The sigmas carry the servo's own error at each commanded angle at the steps' prior; the
+  // priors are still not let below kMinimumPriors, which were sized before that on the pooled
+  // terms' errors over ten simulated units (up to 1.5 mm, 0.7 mm and 0.2 degree from the units'
+  // own; docs/room_evaluation.md).
   settings.range_bias_prior = std::max(kMinimumPriors.range_bias, calibration.range_bias_sigma);
   settings.lever_arm_prior = std::max(kMinimumPriors.lever_arm, calibration.lever_arm_sigma);
   settings.pitch_error_prior_deg = std::max(kMinimumPriors.pitch_offset_deg, calibration.pitch_offset_sigma / kDegree);

@@ -119,7 +119,8 @@ void adjust(const AdjustmentSettings& settings, const std::vector<Eigen::Vector3
                      adjusted.pitch_offset,
                      adjusted.yaw_error.norm(),
                      adjusted.unit_information,
-                     adjusted.unit_rhs};
+                     adjusted.unit_rhs,
+                     adjusted.unit_step_leaks};
   }
 }
 

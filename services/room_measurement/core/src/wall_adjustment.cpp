@@ -22,6 +22,7 @@ constexpr double kHeld = 1e12;      // prior weight that holds an unknown where 
 // with its weight (its range noise's inverse variance, relative to the noise at 1 m).
 struct Row {
   size_t wall, bin;
+  long pitch_step;  // the bin's commanded pitch, in bins: the same step in every scan
   double a[2 + kDeviceTerms];
   double y;
   double weight;
@@ -63,7 +64,8 @@ void for_each_row(const std::vector<WallLine>& walls, const AdjustmentSettings& 
       // range noise in both sides of the equations would bias the turn and the pitch terms.
       const Eigen::Vector3d on_line = walls[k].on_ray(p);
       const double pitch_deg = std::atan2(horizontal, p.z()) / kDegree;
-      size_t& bin = bin_index[static_cast<size_t>(std::lround(pitch_deg / pitch_bin_deg))];
+      const long pitch_step = std::lround(pitch_deg / pitch_bin_deg);
+      size_t& bin = bin_index[static_cast<size_t>(pitch_step)];
       if (bin == kNoBin) bin = bins++;
       // The line n . q = o through corrected points q = p + b u + L up - range e up, turned by
       // t, and the ray turned about the pole by the once-per-turn yaw error s sin + c cos:
@@ -75,6 +77,7 @@ void for_each_row(const std::vector<WallLine>& walls, const AdjustmentSettings& 
       const double noise = settings.range_noise + settings.range_noise_per_metre * on_line.norm();
       use(Row{k,
               bin,
+              pitch_step,
               {1.0, -along.dot(on_line.head<2>()), -facing * sin_pitch, facing * cos_pitch,
                -on_line.norm() * facing * cos_pitch, -across * heading.y(), -across * heading.x()},
               n.dot(p.head<2>()),
@@ -128,13 +131,14 @@ struct StepSums {
 };
 
 struct System {
-  std::vector<Block> blocks;    // per pitch bin, each servo step's error eliminated
-  std::vector<StepSums> steps;  // per pitch bin; empty without step unknowns
-  double step_prior = 0;        // the steps' prior weight; 0: no step unknowns
-  Eigen::VectorXd prior;        // g: diagonal prior weights
-  Eigen::VectorXd prior_mean;   // g: what they pull towards (an inferred wall's line, the device
-                                // terms' calibrated values; zero otherwise)
-  double variance = 0;          // of a weighted row about its wall's line (the priors' scale)
+  std::vector<Block> blocks;      // per pitch bin, each servo step's error eliminated
+  std::vector<StepSums> steps;    // per pitch bin; empty without step unknowns
+  std::vector<long> pitch_steps;  // per pitch bin: Row::pitch_step
+  double step_prior = 0;          // the steps' prior weight; 0: no step unknowns
+  Eigen::VectorXd prior;          // g: diagonal prior weights
+  Eigen::VectorXd prior_mean;     // g: what they pull towards (an inferred wall's line, the device
+                                  // terms' calibrated values; zero otherwise)
+  double variance = 0;            // of a weighted row about its wall's line (the priors' scale)
 };
 
 System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings& settings) {
@@ -152,6 +156,7 @@ System build_system(const std::vector<WallLine>& walls, const AdjustmentSettings
     }
     if (row.bin == system.blocks.size()) {
       system.blocks.push_back(zero);
+      system.pitch_steps.push_back(row.pitch_step);
       if (step_unknowns) system.steps.push_back(no_step);
     }
     add_row(row, count, system.blocks[row.bin]);
@@ -357,8 +362,22 @@ void set_unit_information(const System& system, size_t walls, double variance, A
   const Eigen::MatrixXd n_uo = all.normal(Eigen::seqN(first, 3), others);
   const auto n_oo = all.normal(others, others).ldlt();
   const Eigen::Matrix3d n_uu = all.normal.block(first, first, 3, 3);
+  const auto unit_part = [&](const Eigen::VectorXd& rhs) -> Eigen::Vector3d {
+    return (rhs.segment(first, 3) - n_uo * n_oo.solve(Eigen::VectorXd(rhs(others)))) / variance;
+  };
   result.unit_information = (n_uu - n_uo * n_oo.solve(n_uo.transpose())) / variance;
-  result.unit_rhs = (all.rhs.segment(first, 3) - n_uo * n_oo.solve(Eigen::VectorXd(all.rhs(others)))) / variance;
+  result.unit_rhs = unit_part(all.rhs);
+  // A step's true error e moves its rows' y by their step coefficient times e; with the step's
+  // unknown eliminated under its prior, what stays in the rhs is the coefficients' sums times
+  // e prior / (squares + prior). One prior sigma of e, carried to the unit's terms:
+  result.unit_step_leaks.clear();
+  if (system.step_prior <= 0) return;
+  const double step_sigma = std::sqrt(variance / system.step_prior);
+  for (size_t b = 0; b < system.steps.size(); ++b) {
+    const StepSums& step = system.steps[b];
+    const double kept = system.step_prior / (step.squares + system.step_prior);
+    result.unit_step_leaks.push_back({system.pitch_steps[b], unit_part(step.with_unknowns * (kept * step_sigma))});
+  }
 }
 
 void set_device_terms(const Eigen::VectorXd& x, size_t walls, AdjustedWalls& result) {

@@ -714,7 +714,8 @@ TEST(UnitCalibration, PoolsTheScansInformationWithoutThePriors) {
                           adjusted.pitch_offset,
                           0,
                           adjusted.unit_information,
-                          adjusted.unit_rhs};
+                          adjusted.unit_rhs,
+                          adjusted.unit_step_leaks};
   };
   const DeviceEstimate unit = scan_of(0.04), other = scan_of(-0.03);
   ASSERT_EQ(unit.state, DeviceEstimate::State::Held);
@@ -729,6 +730,32 @@ TEST(UnitCalibration, PoolsTheScansInformationWithoutThePriors) {
   EXPECT_THROW(calibrate_unit({unit}), std::invalid_argument);
   DeviceEstimate not_estimated;
   EXPECT_THROW(calibrate_unit({unit, not_estimated}), std::invalid_argument);
+}
+
+// The servo's own error at each commanded pitch is the same in every scan of a unit, so pooling
+// the scans does not average it out: one box scanned from five spots with the same steps'
+// errors calibrates a servo offset that is the steps' mean, about the steps' sigma over the
+// root of their number (79 steps of 0.5 degrees: 0.056 degree). The sigma carries that part.
+TEST(UnitCalibration, TheServosStepErrorsStayInItsSigmas) {
+  AdjustmentSettings settings;
+  settings.bootstrap = 0;
+  std::vector<DeviceEstimate> scans;
+  for (double x : {0.0, 0.4, 0.8, 1.2, 1.6}) {
+    BoxScan scan;
+    scan.step_errors = 0.5;  // the steps' prior; without range noise the same draws in every scan
+    scan.scanner_x = x;
+    const auto adjusted = adjust_walls(scanned_box_walls(scan), settings);
+    ASSERT_FALSE(adjusted.device_held);
+    scans.push_back({DeviceEstimate::State::Applied, adjusted.range_bias, adjusted.lever_arm, adjusted.pitch_offset, 0,
+                     adjusted.unit_information, adjusted.unit_rhs, adjusted.unit_step_leaks});
+  }
+  const auto c = calibrate_unit(scans);
+  const double degree = M_PI / 180, steps_mean = 0.5 * degree / std::sqrt(79.0);
+  EXPECT_GT(c.servo_sigmas[2], 0.7 * steps_mean);
+  EXPECT_LT(c.servo_sigmas[2], 1.4 * steps_mean);
+  EXPECT_GT(c.servo_sigmas[2], std::sqrt(std::pow(c.pitch_offset_sigma, 2) - std::pow(c.servo_sigmas[2], 2)))
+      << "the servo's part is most of the sigma";
+  EXPECT_LT(std::abs(c.pitch_offset), 2 * c.pitch_offset_sigma) << "the unit has no servo offset of its own";
 }
 
 TEST(WallAdjustment, RecoversAOncePerTurnYawError) {  // a printed gear's runout

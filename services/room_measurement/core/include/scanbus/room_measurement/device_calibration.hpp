@@ -18,7 +18,11 @@ struct UnitCalibration {
   size_t rejected = 0;                   // scans with the terms estimated left out: far from the others
   double range_bias = 0, lever_arm = 0;  // m: corrections, as DeviceEstimate's
   double pitch_offset = 0;               // rad
-  double range_bias_sigma = 0, lever_arm_sigma = 0, pitch_offset_sigma = 0;  // one sigma
+  // One sigma each: the pooled information's (scaled by `scatter`) and the servo's own error at
+  // each commanded pitch, which is the same in every scan and so is not averaged out by pooling
+  // (carried through with the steps' prior: AdjustmentSettings::step_error_prior_deg).
+  double range_bias_sigma = 0, lever_arm_sigma = 0, pitch_offset_sigma = 0;
+  Eigen::Vector3d servo_sigmas = Eigen::Vector3d::Zero();  // that servo part alone, the terms in this order
   double scatter = 1;  // the scans' disagreement over what their information predicts (the sigmas
                        // are scaled up by its root: a scan's neighbouring points are not independent)
 };

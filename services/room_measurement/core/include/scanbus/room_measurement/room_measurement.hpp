@@ -79,6 +79,7 @@ struct DeviceEstimate {
   // (AdjustedWalls::unit_information): what a calibration pools (device_calibration.hpp).
   Eigen::Matrix3d unit_information = Eigen::Matrix3d::Zero();
   Eigen::Vector3d unit_rhs = Eigen::Vector3d::Zero();
+  std::vector<StepLeak> unit_step_leaks{};  // the servo steps' part of unit_rhs (AdjustedWalls')
 };
 const char* device_state_name(DeviceEstimate::State state);
 

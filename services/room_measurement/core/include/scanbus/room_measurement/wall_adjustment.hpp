@@ -68,6 +68,15 @@ struct AdjustmentSettings {
                                            // sigmas' scale"); another scanner needs it measured again
 };
 
+// What one sigma of a servo step's own pitch error (the steps' prior) adds to a scan's
+// AdjustedWalls::unit_rhs, its step named by the commanded pitch (in pitch bins, rounded): the
+// same step errs the same way in every scan of a unit, so a calibration pooling the scans keeps
+// this part whole instead of averaging it out (device_calibration.hpp).
+struct StepLeak {
+  long pitch_step = 0;
+  Eigen::Vector3d unit_rhs = Eigen::Vector3d::Zero();
+};
+
 struct AdjustedWalls {
   std::vector<Eigen::Vector2d> normals;  // per wall, in room order
   std::vector<double> offsets;
@@ -90,6 +99,7 @@ struct AdjustedWalls {
   // terms are not estimated.
   Eigen::Matrix3d unit_information = Eigen::Matrix3d::Zero();
   Eigen::Vector3d unit_rhs = Eigen::Vector3d::Zero();
+  std::vector<StepLeak> unit_step_leaks{};  // per servo step; empty without the steps' unknowns
 };
 
 // `walls` in room order with their inliers; an inferred wall (no inliers) is held where it was
