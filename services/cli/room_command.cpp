@@ -116,6 +116,9 @@ int run_calibrate(const CalibrateOptions& options) {
                                 {"lever_arm_sigma_m", calibration.lever_arm_sigma},
                                 {"pitch_offset_rad", calibration.pitch_offset},
                                 {"pitch_offset_sigma_rad", calibration.pitch_offset_sigma},
+                                {"servo_sigmas",
+                                 {calibration.servo_sigmas[0], calibration.servo_sigmas[1],
+                                  calibration.servo_sigmas[2]}},
                                 {"config", yaml}}
               << "\n";
   } else {
@@ -123,7 +126,8 @@ int run_calibrate(const CalibrateOptions& options) {
         "\nthe unit's own terms from %zu scans (%zu left out, far from the others): range bias %+.2f mm (+-%.2f), "
         "lever arm %+.2f mm (+-%.2f), servo offset %+.3f deg (+-%.3f); the scans disagree %.1f times over their "
         "information. The sigmas carry the servo's own error at each step (the same in every scan) at the steps' "
-        "%.1f deg prior; the config's priors are at least %.0f mm, %.0f mm and %.1f deg (docs/room_evaluation.md). "
+        "%.1f deg prior (none at 0); the config's priors are at least %.0f mm, %.0f mm and %.1f deg "
+        "(docs/room_evaluation.md). "
         "For its config:\n\n%s",
         calibration.scans, calibration.rejected, 1e3 * calibration.range_bias, 1e3 * calibration.range_bias_sigma,
         1e3 * calibration.lever_arm, 1e3 * calibration.lever_arm_sigma, calibration.pitch_offset * 180 / M_PI,

@@ -54,13 +54,17 @@ double misfit_to_others(const DeviceEstimate& scan, const Pooled& pooled, bool p
 }
 
 // A servo step's error e moves every kept scan's rhs by its leak times e (in prior sigmas): summed
-// by commanded pitch, the pooled terms move by inverse * sum e, whatever the scans' number.
+// by commanded pitch, the pooled terms move by inverse * sum e, whatever the scans' number. Each
+// scan's information already counts its own steps as independent (their prior, eliminated), so
+// only what the scans share is added: the sums' outer products less each scan's own.
 Eigen::Matrix3d servo_covariance(const std::vector<const DeviceEstimate*>& scans, const Eigen::Matrix3d& inverse) {
   std::map<long, Eigen::Vector3d> by_step;
-  for (const auto* scan : scans)
-    for (const auto& leak : scan->unit_step_leaks)
-      by_step.try_emplace(leak.pitch_step, Eigen::Vector3d::Zero()).first->second += leak.unit_rhs;
   Eigen::Matrix3d leaked = Eigen::Matrix3d::Zero();
+  for (const auto* scan : scans)
+    for (const auto& leak : scan->unit_step_leaks) {
+      by_step.try_emplace(leak.pitch_step, Eigen::Vector3d::Zero()).first->second += leak.unit_rhs;
+      leaked -= leak.unit_rhs * leak.unit_rhs.transpose();
+    }
   for (const auto& [step, sum] : by_step) leaked += sum * sum.transpose();
   return inverse * leaked * inverse;
 }
@@ -106,7 +110,8 @@ UnitCalibration calibrate_unit(const std::vector<DeviceEstimate>& scans) {
   c.rejected = candidates.size() - kept.size();
   c.scatter = std::max(1.0, chi_square / (3.0 * static_cast<double>(kept.size() - 1)));
   const Eigen::Matrix3d inverse = pooled.information.ldlt().solve(Eigen::Matrix3d::Identity());
-  c.servo_sigmas = servo_covariance(kept, inverse).diagonal().cwiseSqrt();
+  // Under zero where the scans' steps leak in opposite ways: nothing shared to add.
+  c.servo_sigmas = servo_covariance(kept, inverse).diagonal().cwiseMax(0.0).cwiseSqrt();
   const Eigen::Vector3d variances = inverse.diagonal() * c.scatter + c.servo_sigmas.cwiseAbs2();
   c.range_bias = pooled.terms[0], c.lever_arm = pooled.terms[1], c.pitch_offset = pooled.terms[2];
   c.range_bias_sigma = std::sqrt(variances[0]);
