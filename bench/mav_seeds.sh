@@ -2,7 +2,8 @@
 # The MAV targets across noise seeds: `scanbus eval mav` (four 3-minute scenarios) for each
 # seed, one markdown row per seed (fused height RMSE, its ratio to the better single source
 # in each scenario, scenario IV's box P with each height, the fused cloud's height error
-# against the true ground: RMSE and bias, worst scenario; the fused elevation grid's cells
+# against the true ground: RMSE and bias, worst scenario, beside the same scenario's cloud
+# built with the true height (what no height estimate removes); the fused elevation grid's cells
 # against it: RMSE, worst scenario) and a summary (also: fused below
 # GPS altitude alone, the fused height's sigma coverage). Extra arguments go to `scanbus
 # eval mav` (e.g. --no-ground, --gps float, --noise-scale 2). About 30 s per seed on one
@@ -35,9 +36,9 @@ done
 python3 - "$work" "$first" "$last" <<'PY'
 import json, statistics, sys
 folder, first, last = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-print("| seed | fused RMSE | GPS RMSE | ratio I | II | III | IV | scenario IV P: barometer | scan matcher | fused | ground RMSE fused (worst) | its bias | elevation grid RMSE (worst) |")
-print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
-ratios, held, p_fused, ground, below_gps, within, grids = [], 0, [], [], 0, [], []
+print("| seed | fused RMSE | GPS RMSE | ratio I | II | III | IV | scenario IV P: barometer | scan matcher | fused | ground RMSE fused (worst) | its bias | at the true height | elevation grid RMSE (worst) |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+ratios, held, p_fused, ground, below_gps, within, grids, floors = [], 0, [], [], 0, [], [], []
 for seed in range(first, last + 1):
     flights = json.load(open(f"{folder}/{seed}.json"))
     row, fused, gps, worst, grid = [], [], [], None, None
@@ -45,7 +46,8 @@ for seed in range(first, last + 1):
         e = flight.get("elevation_grid", {}).get("error_m")
         if e and (grid is None or e["rmse"] > grid): grid = e["rmse"]
         g = flight.get("ground_error_m", {}).get("fused")
-        if g and (worst is None or g["rmse"] > worst["rmse"]): worst = g
+        if g and (worst is None or g["rmse"] > worst["rmse"]):
+            worst, floor = g, flight["ground_error_m"].get("true_height")
         rmse = flight["height_rmse_m"]
         ratio = rmse["fused"] / min(rmse["barometer"], rmse["scan_matcher"])
         ratios.append(ratio)
@@ -62,6 +64,8 @@ for seed in range(first, last + 1):
     cells = [f"{p[k]:.2f} %" for k in ("barometer", "scan_matcher", "fused")] if p else ["", "", ""]
     if worst: ground.append(worst["rmse"])
     cells += [f"{worst['rmse']:.3f} m", f"{worst['bias']:+.3f} m"] if worst else ["", ""]
+    cells += [f"{floor['rmse']:.3f} m" if worst and floor else ""]
+    if worst and floor: floors.append(floor["rmse"])
     cells += [f"{grid:.3f} m" if grid is not None else ""]
     if grid is not None: grids.append(grid)
     gps_text = f"{min(gps):.3f}-{max(gps):.3f} m" if gps else "-"
@@ -75,6 +79,8 @@ print(f"fused height within 1 sigma: median {statistics.median(one):.0%} of pose
       f"within 2 sigma: median {statistics.median(two):.0%} ({min(two):.0%}-{max(two):.0%})")
 if ground:
     print(f"fused ground RMSE, worst scenario of each seed: median {statistics.median(ground):.3f} m, worst {max(ground):.3f} m")
+if floors:
+    print(f"the same scenarios' ground at the true height: median {statistics.median(floors):.3f} m, worst {max(floors):.3f} m")
 if grids:
     print(f"elevation grid RMSE, worst scenario of each seed: median {statistics.median(grids):.3f} m, worst {max(grids):.3f} m")
 if p_fused:

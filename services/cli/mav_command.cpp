@@ -177,6 +177,7 @@ nlohmann::json evaluation_json(const std::string& name, const FlightEvaluation& 
       json["ground_error_m"][ground_evaluation::kHeightSourceNames[source]] = ground_error_json(e.ground[source]);
     if (e.has_boxes) json["boxes"][ground_evaluation::kHeightSourceNames[source]] = boxes_json(e.boxes[source]);
   }
+  if (e.has_ground) json["ground_error_m"]["true_height"] = ground_error_json(e.ground_at_true_height);
   return json;
 }
 
@@ -242,9 +243,9 @@ int run_eval_mav(EvalMavOptions options) {
   if (!options.json)
     std::printf(
         "%-14s %6s %7s | height RMSE (m): %9s %12s %7s %6s %6s | boxes P: %9s %12s %8s | ground RMSE (m): %9s %12s "
-        "%7s %6s\n",
+        "%7s %6s %11s\n",
         "flight", "scans", "failed", "barometer", "scan matcher", "GPS", "fused", "ratio", "barometer", "scan matcher",
-        "fused", "barometer", "scan matcher", "GPS", "fused");
+        "fused", "barometer", "scan matcher", "GPS", "fused", "true height");
   for (size_t i = 0; i < flights.size(); ++i) {
     const std::string& name = flights[i].first;
     const FlightEvaluation& evaluation = evaluations[i];
@@ -259,10 +260,10 @@ int run_eval_mav(EvalMavOptions options) {
                 performance_text(evaluation.boxes[0]).c_str(), performance_text(evaluation.boxes[1]).c_str(),
                 performance_text(evaluation.boxes[2]).c_str());
     if (evaluation.has_ground)
-      std::printf("%26.3f %12.3f %7.3f %6.3f\n", evaluation.ground[0].rmse, evaluation.ground[1].rmse,
-                  evaluation.ground[3].rmse, evaluation.ground[2].rmse);
+      std::printf("%26.3f %12.3f %7.3f %6.3f %11.3f\n", evaluation.ground[0].rmse, evaluation.ground[1].rmse,
+                  evaluation.ground[3].rmse, evaluation.ground[2].rmse, evaluation.ground_at_true_height.rmse);
     else
-      std::printf("%55s\n", "not known (no META scenario)");
+      std::printf("%67s\n", "not known (no META scenario)");
   }
   if (options.json) std::cout << results.dump() << "\n";
   return 0;

@@ -147,8 +147,9 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
 
   FlightEvaluation result;
   result.scans = log.lasers.size();
-  std::map<double, size_t> scan_at;  // laser records waiting for their pose
-  std::optional<double> integrated;  // the paper's height: first barometer + the changes
+  std::map<double, size_t> scan_at;             // laser records waiting for their pose
+  std::optional<double> integrated;             // the paper's height: first barometer + the changes
+  std::vector<Eigen::Vector3f> at_true_height;  // the cloud a perfect height would give
   std::chrono::duration<double> fusion_time{0};
   const auto take_poses = [&](bool all) {
     const auto started = std::chrono::steady_clock::now();
@@ -168,13 +169,15 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
                                 pose.clearance.value_or(NAN),
                                 pose.position_sigma.z()});
       const auto points = cloud_assembly::scan_points(log.lasers[found->second], settings.gating);
-      for (int source = 0; source < sources; ++source) {
+      const auto place = [&](double height, std::vector<Eigen::Vector3f>& cloud) {
         Eigen::Isometry3d body = Eigen::Isometry3d::Identity();
-        body.translation() = Eigen::Vector3d(pose.position.x(), pose.position.y(), heights[source]);
+        body.translation() = Eigen::Vector3d(pose.position.x(), pose.position.y(), height);
         body.linear() = pose.orientation.toRotationMatrix();
         const Eigen::Isometry3d map_T_laser = body * estimator_settings.laser_in_body;
-        for (const auto& p : points) result.cloud[source].push_back((map_T_laser * p).cast<float>());
-      }
+        for (const auto& p : points) cloud.push_back((map_T_laser * p).cast<float>());
+      };
+      for (int source = 0; source < sources; ++source) place(heights[source], result.cloud[source]);
+      if (settings.true_ground) place(true_height, at_true_height);
       ++result.poses;
       result.clearances += pose.clearance.has_value();
       scan_at.erase(found);
@@ -236,6 +239,7 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
   if (result.has_ground)
     for (int source = 0; source < sources; ++source)
       result.ground[source] = ground_model_error(result.cloud[source], settings.true_ground);
+  if (result.has_ground) result.ground_at_true_height = ground_model_error(at_true_height, settings.true_ground);
   grid_fused_cloud(settings, result);
   const auto boxes = log.meta.find("boxes");
   result.has_boxes = boxes != log.meta.end() && boxes->second.size() >= 2;

@@ -123,6 +123,21 @@ TEST(FlightEvaluation, TheGroundModelIsScoredAgainstTheSimulatedGround) {
   EXPECT_FALSE(evaluate_flight(log, {}).has_ground);
 }
 
+// The cloud at the true height sets the floor no height estimate goes under: without sensor
+// errors it lies on the ground; with them it keeps the laser's and the attitude's part.
+TEST(FlightEvaluation, TheCloudAtTheTrueHeightShowsWhatTheOtherSensorsLeave) {
+  mav_sim::FlightSettings settings;
+  settings.duration = 20;
+  settings.noise_scale = 0;
+  const FlightEvaluation exact = evaluate_against_its_ground(mav_sim::simulate_flight(settings));
+  EXPECT_EQ(exact.ground_at_true_height.points, exact.ground[static_cast<int>(HeightSource::Fused)].points);
+  EXPECT_LT(exact.ground_at_true_height.rmse, 0.002);
+  settings.noise_scale = 1;
+  const FlightEvaluation flown = evaluate_against_its_ground(mav_sim::simulate_flight(settings));
+  EXPECT_GT(flown.ground_at_true_height.rmse, 0.01);  // the laser's 2 cm range noise at least in part
+  EXPECT_LT(flown.ground_at_true_height.rmse, flown.ground[static_cast<int>(HeightSource::Barometer)].rmse);
+}
+
 // The fused cloud's elevation grid over a slope with a mound: every cell of the grid holds
 // the mean of its returns, and the cells follow the terrain (not a flat ground).
 TEST(FlightEvaluation, TheElevationGridFollowsTheTerrain) {

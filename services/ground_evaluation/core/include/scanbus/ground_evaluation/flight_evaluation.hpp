@@ -100,6 +100,9 @@ struct FlightEvaluation {
   BoxEvaluation boxes[kHeightSources];        // the cloud built with each height
   bool has_ground = false;                    // the true ground is known (settings.true_ground)
   GroundModelError ground[kHeightSources];    // the cloud built with each height against it
+  // The cloud built with the true height, every other sensor (position, attitude, laser) as
+  // flown: the part of the ground's error that no height estimate can remove.
+  GroundModelError ground_at_true_height;
   std::vector<Eigen::Vector3f> cloud[kHeightSources];  // every return in the map frame, by HeightSource
   cloud_assembly::ElevationGrid elevation;             // of the fused cloud (no cells when it is empty)
   GroundModelError elevation_error;   // its cells' heights against the true ground (cell_average_truth)
