@@ -112,13 +112,13 @@ int run_calibrate(const CalibrateOptions& options) {
                                 {"scatter", calibration.scatter},
                                 {"range_bias_m", calibration.range_bias},
                                 {"range_bias_sigma_m", calibration.range_bias_sigma},
+                                {"range_bias_servo_sigma_m", calibration.servo_sigmas[0]},
                                 {"lever_arm_m", calibration.lever_arm},
                                 {"lever_arm_sigma_m", calibration.lever_arm_sigma},
+                                {"lever_arm_servo_sigma_m", calibration.servo_sigmas[1]},
                                 {"pitch_offset_rad", calibration.pitch_offset},
                                 {"pitch_offset_sigma_rad", calibration.pitch_offset_sigma},
-                                {"servo_sigmas",
-                                 {calibration.servo_sigmas[0], calibration.servo_sigmas[1],
-                                  calibration.servo_sigmas[2]}},
+                                {"pitch_offset_servo_sigma_rad", calibration.servo_sigmas[2]},
                                 {"config", yaml}}
               << "\n";
   } else {

@@ -130,6 +130,15 @@ grep -q "^unit 9 (simulated): range noise " "$work/unit.txt" || { head -3 "$work
 "$scanbus" room calibrate "$work"/unit/*.pcd > "$work/calibration.txt" || fail "room calibrate exit $?"
 sed -n '/^room_measurement:/,$p' "$work/calibration.txt" > "$work/unit.yaml"
 grep -q "range_bias: " "$work/unit.yaml" || { cat "$work/calibration.txt"; fail "room calibrate printed no config"; }
+# Its JSON names every term's estimate, sigma and the servo's part of that sigma.
+"$scanbus" room calibrate "$work"/unit/*.pcd --json > "$work/calibration.json" || fail "room calibrate --json exit $?"
+python3 - "$work/calibration.json" <<'PY' || fail "room calibrate --json lacks a term"
+import json, sys
+c = json.load(open(sys.argv[1]))
+for term, unit in (("range_bias", "m"), ("lever_arm", "m"), ("pitch_offset", "rad")):
+    sigma, servo = c[f"{term}_sigma_{unit}"], c[f"{term}_servo_sigma_{unit}"]
+    assert 0 <= servo <= sigma and sigma > 0, (term, servo, sigma)
+PY
 "$scanbus" room measure "$work/unit/box_3001.pcd" --config "$work/unit.yaml" > "$work/calibrated.txt" 2>&1 ||
   { cat "$work/calibrated.txt"; fail "room measure with the calibration's config"; }
 expect_exit 2 "missing.pcd: cannot open" -- "$scanbus" room calibrate "$work/missing.pcd" "$work"/unit/box_*.pcd
