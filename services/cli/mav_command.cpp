@@ -263,7 +263,7 @@ int run_eval_mav(EvalMavOptions options) {
       std::printf("%26.3f %12.3f %7.3f %6.3f %11.3f\n", evaluation.ground[0].rmse, evaluation.ground[1].rmse,
                   evaluation.ground[3].rmse, evaluation.ground[2].rmse, evaluation.ground_at_true_height.rmse);
     else
-      std::printf("%67s\n", "not known (no META scenario)");
+      std::printf("%66s\n", "not known (no META scenario)");
   }
   if (options.json) std::cout << results.dump() << "\n";
   return 0;

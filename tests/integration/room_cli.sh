@@ -136,8 +136,10 @@ python3 - "$work/calibration.json" <<'PY' || fail "room calibrate --json lacks a
 import json, sys
 c = json.load(open(sys.argv[1]))
 for term, unit in (("range_bias", "m"), ("lever_arm", "m"), ("pitch_offset", "rad")):
-    sigma, servo = c[f"{term}_sigma_{unit}"], c[f"{term}_servo_sigma_{unit}"]
-    assert 0 <= servo <= sigma and sigma > 0, (term, servo, sigma)
+    estimate, sigma, servo = c[f"{term}_{unit}"], c[f"{term}_sigma_{unit}"], c[f"{term}_servo_sigma_{unit}"]
+    assert abs(estimate) < 1 and 0 <= servo <= sigma and sigma > 0, (term, estimate, servo, sigma)
+assert c["pitch_offset_servo_sigma_rad"] > 0  # every scan's steps see the walls: the servo's part is there
+assert "range_bias: " in c["config"]
 PY
 "$scanbus" room measure "$work/unit/box_3001.pcd" --config "$work/unit.yaml" > "$work/calibrated.txt" 2>&1 ||
   { cat "$work/calibrated.txt"; fail "room measure with the calibration's config"; }
