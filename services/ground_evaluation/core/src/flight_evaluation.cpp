@@ -236,10 +236,11 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
   result.ground_cells = estimator.fusion().ground_cells();
   result.fusion_ms_per_update = result.poses ? fusion_time.count() * 1000 / static_cast<double>(result.poses) : 0;
   result.has_ground = static_cast<bool>(settings.true_ground);
-  if (result.has_ground)
+  if (result.has_ground) {
     for (int source = 0; source < sources; ++source)
       result.ground[source] = ground_model_error(result.cloud[source], settings.true_ground);
-  if (result.has_ground) result.ground_at_true_height = ground_model_error(at_true_height, settings.true_ground);
+    result.ground_at_true_height = ground_model_error(at_true_height, settings.true_ground);
+  }
   grid_fused_cloud(settings, result);
   const auto boxes = log.meta.find("boxes");
   result.has_boxes = boxes != log.meta.end() && boxes->second.size() >= 2;
