@@ -36,6 +36,7 @@ start() {  # start SERVICE: runs it in the background, its pid in $started
 }
 start scanner_io; scanner_io=$started
 start room_measurement; room=$started
+: > "$work/rooms.jsonl"  # wait_lines reads it before the echo opens it
 "$scanbus" echo rt/room/measurement > "$work/rooms.jsonl" 2> "$work/echo.log" &
 pids+=($!)
 wait_lines "$work/rooms.jsonl" 1 90 || { fail "no first RoomMeasurement within 90 s"; tail -5 "$work"/*.log; exit 1; }
@@ -73,12 +74,22 @@ alive "$room" || fail "room_measurement died when scanner_io did"
 "$scanbus" echo rt/scanner/cloud -n 1 --timeout 5 > /dev/null 2>&1 ||
   fail "a late subscriber got no PointCloud2 from the restarted scanner_io"
 # Every room published across the kills is the room (the simulator's built-in 5.47 x 3.48 m
-# room, as tests/integration/cli_demo.sh checks), not only a sample.
-python3 - "$work/rooms.jsonl" <<'PY' || fail "a published RoomMeasurement is not the room"
+# room, as tests/integration/cli_demo.sh checks), not only a sample. A scan that lost lines on
+# the link (the simulated device drops what nobody read in time, as a full USB buffer does: seen
+# once under the sanitizers on a loaded CI machine, a 41 degree gap) may give a refusal that
+# says why, never a wrong room with status ok.
+python3 - "$work/rooms.jsonl" "$work/scanner_io.log" <<'PY' || fail "a published RoomMeasurement is not the room"
 import json, sys
 rooms = [json.loads(line) for line in open(sys.argv[1]) if line.strip()]
+lost = "lines lost on the link" in open(sys.argv[2]).read()
+refused = 0
 for i, room in enumerate(rooms):
     walls = sorted((w["length"], w["length_uncertainty"]) for w in room["walls"])
+    if room["status"] != 0 and lost:
+        assert room["message"], (i, room["status"])
+        print(f"note a scan lost lines on the link; room {i} refused: {room['message']}")
+        refused += 1
+        continue
     assert room["status"] == 0, (i, room["status"], room["message"])
     # Within 4 of the wall's own sigmas (5-12 mm), 3 cm at least: the room, not a partial cloud's.
     # At this 20 RPM setting on a loaded machine a wall came out 20.4 mm off (under the sanitizers)
@@ -87,7 +98,8 @@ for i, room in enumerate(rooms):
     assert len(walls) == 4 and all(abs(got - want) < max(0.03, 4 * sigma)
                                    for (got, sigma), want in zip(walls, [3.48, 3.48, 5.47, 5.47])), (i, walls)
     assert abs(room["floor_area"] - 5.47 * 3.48) < 0.01 * 5.47 * 3.48, (i, room["floor_area"])
-print(f"ok   all {len(rooms)} RoomMeasurements: status ok, walls and area of the 5.47 x 3.48 m room")
+assert refused < len(rooms), "every room refused"
+print(f"ok   {len(rooms) - refused} of {len(rooms)} RoomMeasurements: status ok, walls and area of the 5.47 x 3.48 m room")
 PY
-[ "$failures" -eq 0 ] || { echo "FAIL: $failures checks"; exit 1; }
+[ "$failures" -eq 0 ] || { grep -h "scan complete\|lines lost" "$work/scanner_io.log"; echo "FAIL: $failures checks"; exit 1; }
 echo "kill -9 and restart: the room pipeline resumed each time"

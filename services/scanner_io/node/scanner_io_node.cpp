@@ -184,7 +184,11 @@ class ScannerIo : public Service {
     if (output.revolution) publish_revolution(*output.revolution);
     if (output.scan) {
       scan_cloud_.write(to_point_cloud2(*output.scan, settings_.frame_id, now_stamp()));
-      log_->info("scan complete: {} points", output.scan->size());
+      if (output.scan_lost_lines == 0)
+        log_->info("scan complete: {} points", output.scan->size());
+      else
+        log_->warn("scan complete: {} points, {} lines lost on the link: the cloud has gaps", output.scan->size(),
+                   output.scan_lost_lines);
       health_.recovered();  // a whole scan: the device (missing, unplugged, stalled) works again
     }
     send_to_device();

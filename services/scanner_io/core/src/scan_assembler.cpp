@@ -41,7 +41,9 @@ ScanOutput ScanAssembler::add(const DeviceLine& line, double now) {
       // Thesis lines end the last revolution with 'd' alone.
       if (!current_.measurements.empty()) out.revolution = close_revolution();
       out.scan = std::move(scan_points_);
+      out.scan_lost_lines = scan_lost_lines_;
       scan_points_.clear();
+      scan_lost_lines_ = 0;
       current_ = Revolution{};
       laps_in_scan_ = 0;
       ++scan_index_;
@@ -59,6 +61,7 @@ Revolution ScanAssembler::close_revolution() {
   ++counters_.revolutions;
   current_.scan = scan_index_;
   scan_points_.insert(scan_points_.end(), current_.points.begin(), current_.points.end());
+  scan_lost_lines_ += current_.lost;
   Revolution closed = std::move(current_);
   current_ = Revolution{};
   current_.index = closed.index + 1;
@@ -78,6 +81,7 @@ void ScanAssembler::abort() {
   if (scanning() || laps_in_scan_ > 0) ++counters_.aborted_scans;
   current_ = Revolution{};
   scan_points_.clear();
+  scan_lost_lines_ = 0;
   laps_in_scan_ = 0;
 }
 

@@ -94,6 +94,7 @@ TEST(ScanAssembler, RevolutionsScansAndGaps) {
   const auto done = feed("D 0 2");
   ASSERT_TRUE(done.scan.has_value());
   EXPECT_EQ(done.scan->size(), 3u);
+  EXPECT_EQ(done.scan_lost_lines, 2u);
   const ScanCounters& counters = assembler.counters();
   EXPECT_EQ(counters.lost_lines, 2u);
   EXPECT_EQ(counters.out_of_range, 1u);

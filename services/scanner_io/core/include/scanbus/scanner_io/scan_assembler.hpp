@@ -35,6 +35,9 @@ struct Revolution {
 struct ScanOutput {
   std::optional<Revolution> revolution;         // a revolution completed
   std::optional<std::vector<CloudPoint>> scan;  // a whole scan completed
+  // Lines of that scan lost on the link (sequence gaps): every lap was seen, but not every
+  // measurement, so the cloud has gaps a consumer may want to know about.
+  uint64_t scan_lost_lines = 0;
 };
 
 class ScanAssembler {
@@ -58,6 +61,7 @@ class ScanAssembler {
   ScanCounters counters_;
   Revolution current_;
   std::vector<CloudPoint> scan_points_;
+  uint64_t scan_lost_lines_ = 0;
   uint32_t laps_in_scan_ = 0;
   std::optional<uint32_t> expected_sequence_;
   uint32_t scan_index_ = 0;
