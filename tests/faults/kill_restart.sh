@@ -18,7 +18,7 @@ with_work KILL
 # wait_lines FILE N SECONDS: FILE holds at least N lines within SECONDS.
 wait_lines() {
   local deadline=$((SECONDS + $3))
-  while [ "$(wc -l < "$1" 2> /dev/null || echo 0)" -lt "$2" ]; do
+  while [ "$( (wc -l < "$1") 2> /dev/null || echo 0)" -lt "$2" ]; do
     [ "$SECONDS" -ge "$deadline" ] && return 1
     sleep 0.2
   done
@@ -36,7 +36,6 @@ start() {  # start SERVICE: runs it in the background, its pid in $started
 }
 start scanner_io; scanner_io=$started
 start room_measurement; room=$started
-: > "$work/rooms.jsonl"  # wait_lines reads it before the echo opens it
 "$scanbus" echo rt/room/measurement > "$work/rooms.jsonl" 2> "$work/echo.log" &
 pids+=($!)
 wait_lines "$work/rooms.jsonl" 1 90 || { fail "no first RoomMeasurement within 90 s"; tail -5 "$work"/*.log; exit 1; }
@@ -74,23 +73,25 @@ alive "$room" || fail "room_measurement died when scanner_io did"
 "$scanbus" echo rt/scanner/cloud -n 1 --timeout 5 > /dev/null 2>&1 ||
   fail "a late subscriber got no PointCloud2 from the restarted scanner_io"
 # Every room published across the kills is the room (the simulator's built-in 5.47 x 3.48 m
-# room, as tests/integration/cli_demo.sh checks), not only a sample. A scan that lost lines on
-# the link (the simulated device drops what nobody read in time, as a full USB buffer does: seen
-# once under the sanitizers on a loaded CI machine, a 41 degree gap) may give a refusal that
-# says why, never a wrong room with status ok.
+# room, as tests/integration/cli_demo.sh checks), not only a sample. Rooms 1 and 2 are the
+# first scan's (the second from the latched cloud), later ones the restarted scanner_io's.
+# A scan that lost lines on the link (scanner_io's warning) may give a refusal that names the
+# gap, never a wrong room with status ok. Once under the sanitizers the third room was
+# refused ("no wall seen over 41 degrees"); whether its scan had lost lines was not in the
+# output then, so on failure the scans' log lines are printed below.
 python3 - "$work/rooms.jsonl" "$work/scanner_io.log" <<'PY' || fail "a published RoomMeasurement is not the room"
 import json, sys
 rooms = [json.loads(line) for line in open(sys.argv[1]) if line.strip()]
-lost = "lines lost on the link" in open(sys.argv[2]).read()
-refused = 0
+scans_lost = ["lines lost on the link" in line for line in open(sys.argv[2]) if "scan complete" in line]
+assert rooms, "no room"
 for i, room in enumerate(rooms):
-    walls = sorted((w["length"], w["length_uncertainty"]) for w in room["walls"])
-    if room["status"] != 0 and lost:
-        assert room["message"], (i, room["status"])
-        print(f"note a scan lost lines on the link; room {i} refused: {room['message']}")
-        refused += 1
+    scan = 0 if i < 2 else len(scans_lost) - 1
+    if room["status"] != 0 and 0 <= scan < len(scans_lost) and scans_lost[scan]:
+        assert "no wall seen over" in room["message"], (i, room["status"], room["message"])
+        print(f"note scan {scan + 1} lost lines on the link; room {i + 1} refused: {room['message']}")
         continue
     assert room["status"] == 0, (i, room["status"], room["message"])
+    walls = sorted((w["length"], w["length_uncertainty"]) for w in room["walls"])
     # Within 4 of the wall's own sigmas (5-12 mm), 3 cm at least: the room, not a partial cloud's.
     # At this 20 RPM setting on a loaded machine a wall came out 20.4 mm off (under the sanitizers)
     # and 20.8 mm off (sigma 5.1 mm, a CI clone beside the compose test): the sigmas are calibrated
@@ -98,8 +99,7 @@ for i, room in enumerate(rooms):
     assert len(walls) == 4 and all(abs(got - want) < max(0.03, 4 * sigma)
                                    for (got, sigma), want in zip(walls, [3.48, 3.48, 5.47, 5.47])), (i, walls)
     assert abs(room["floor_area"] - 5.47 * 3.48) < 0.01 * 5.47 * 3.48, (i, room["floor_area"])
-assert refused < len(rooms), "every room refused"
-print(f"ok   {len(rooms) - refused} of {len(rooms)} RoomMeasurements: status ok, walls and area of the 5.47 x 3.48 m room")
+print(f"ok   all {len(rooms)} RoomMeasurements: the 5.47 x 3.48 m room, or a refusal naming a lossy scan's gap")
 PY
-[ "$failures" -eq 0 ] || { grep -h "scan complete\|lines lost" "$work/scanner_io.log"; echo "FAIL: $failures checks"; exit 1; }
+[ "$failures" -eq 0 ] || { grep -h "scan complete" "$work/scanner_io.log" || echo "no scan completed"; echo "FAIL: $failures checks"; exit 1; }
 echo "kill -9 and restart: the room pipeline resumed each time"

@@ -14,7 +14,10 @@ ScanOutput ScanAssembler::add(const DeviceLine& line, double now) {
       expected_sequence_.reset();
       break;
     case LineKind::Measurement: {
-      if (line.measurement.line != 0 || expected_sequence_) track_sequence(line.measurement.line);
+      if (line.measurement.line != 0 || expected_sequence_) {
+        expect_next(line.measurement.line);
+        expected_sequence_ = line.measurement.line + 1;
+      }
       SphericalMeasurement measurement = line.measurement;
       measurement.stamp = now;
       ++counters_.measurements;
@@ -28,7 +31,13 @@ ScanOutput ScanAssembler::add(const DeviceLine& line, double now) {
       break;
     }
     case LineKind::Lap:
-      if (line.counted && line.revolution == 0 && laps_in_scan_ > 0) abort();  // a new scan began
+      if (line.counted && line.revolution == 0 && laps_in_scan_ > 0) {
+        // A new scan began though the last one's end never came: that one is lost, this
+        // one's first revolution (just measured) is not.
+        Revolution first = std::move(current_);
+        abort();
+        current_ = std::move(first);
+      }
       if (line.counted) current_.index = line.revolution;
       // The thesis firmware's 'n' also comes before the first revolution: nothing to close.
       if (line.counted || !current_.measurements.empty()) out.revolution = close_revolution();
@@ -49,7 +58,10 @@ ScanOutput ScanAssembler::add(const DeviceLine& line, double now) {
       ++scan_index_;
       ++counters_.scans;
       break;
-    case LineKind::Status:
+    case LineKind::Status:  // the device's next sequence number: lines lost before it count too,
+                            // as do the first ones after a (re)connect
+      expect_next(line.status.sequence);
+      break;
     case LineKind::DeviceError:
       break;
   }
@@ -68,13 +80,13 @@ Revolution ScanAssembler::close_revolution() {
   return closed;
 }
 
-void ScanAssembler::track_sequence(uint32_t sequence) {
-  if (expected_sequence_ && sequence > *expected_sequence_) {
-    const uint64_t gap = sequence - *expected_sequence_;
+void ScanAssembler::expect_next(uint32_t next) {
+  if (expected_sequence_ && next > *expected_sequence_) {
+    const uint64_t gap = next - *expected_sequence_;
     counters_.lost_lines += gap;
     current_.lost += gap;
   }
-  expected_sequence_ = sequence + 1;
+  expected_sequence_ = next;
 }
 
 void ScanAssembler::abort() {

@@ -102,6 +102,56 @@ TEST(ScanAssembler, RevolutionsScansAndGaps) {
   EXPECT_EQ(counters.scans, 1u);
 }
 
+TEST(ScanAssembler, EachScanCountsItsOwnLostLines) {
+  ScanAssembler assembler(RangeGate{0.05, 40});
+  auto feed = [&](const std::string& payload) {
+    return assembler.add(parse_line(framed(payload), Dialect::Scanbus), 1.0);
+  };
+  feed("M 5 0 9000 200 10");
+  feed("M 8 100 9000 200 10");  // 6 and 7 lost
+  feed("L 0 9000");
+  EXPECT_EQ(feed("D 0 1").scan_lost_lines, 2u);
+  feed("M 9 0 9000 200 10");
+  feed("L 0 9000");
+  const auto clean = feed("D 1 1");
+  ASSERT_TRUE(clean.scan.has_value());
+  EXPECT_EQ(clean.scan_lost_lines, 0u);
+}
+
+TEST(ScanAssembler, LinesLostRightAfterAConnectCountFromTheStatusLine) {
+  ScanAssembler assembler(RangeGate{0.05, 40});
+  auto feed = [&](const std::string& payload) {
+    return assembler.add(parse_line(framed(payload), Dialect::Scanbus), 1.0);
+  };
+  feed("S 1 1 199 0 7 0");    // a new reader: idle, 7 comes next
+  feed("M 9 0 9000 200 10");  // 7 and 8 lost
+  feed("L 0 9000");
+  const auto done = feed("D 0 1");
+  ASSERT_TRUE(done.scan.has_value());
+  EXPECT_EQ(done.scan_lost_lines, 2u);
+  EXPECT_EQ(assembler.counters().lost_lines, 2u);
+}
+
+TEST(ScanAssembler, AScanWhoseEndWasLostLeavesTheNextOneWhole) {
+  ScanAssembler assembler(RangeGate{0.05, 40});
+  auto feed = [&](const std::string& payload) {
+    return assembler.add(parse_line(framed(payload), Dialect::Scanbus), 1.0);
+  };
+  feed("M 0 0 9000 200 10");
+  feed("L 0 9000");
+  feed("M 1 0 9300 200 10");
+  feed("L 1 9300");  // its 'D 0 2' never came
+  feed("M 2 0 9000 200 10");
+  feed("M 3 100 9000 200 10");
+  feed("L 0 9000");  // a new scan's first revolution
+  feed("M 4 0 9300 200 10");
+  feed("L 1 9300");
+  const auto done = feed("D 1 2");
+  ASSERT_TRUE(done.scan.has_value());
+  EXPECT_EQ(done.scan->size(), 3u);  // the new scan whole, the old one dropped
+  EXPECT_EQ(assembler.counters().aborted_scans, 1u);
+}
+
 TEST(ScanAssembler, DeviceRestartAbortsThePartialScan) {
   ScanAssembler assembler(RangeGate{});
   auto feed = [&](const std::string& payload) {

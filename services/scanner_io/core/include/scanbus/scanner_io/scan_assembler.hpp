@@ -36,7 +36,8 @@ struct ScanOutput {
   std::optional<Revolution> revolution;         // a revolution completed
   std::optional<std::vector<CloudPoint>> scan;  // a whole scan completed
   // Lines of that scan lost on the link (sequence gaps): every lap was seen, but not every
-  // measurement, so the cloud has gaps a consumer may want to know about.
+  // measurement, so the cloud has gaps (scanner_io says so in its log). Lines lost after the
+  // scan's last measurement show only at the next numbered line, and count there.
   uint64_t scan_lost_lines = 0;
 };
 
@@ -54,7 +55,9 @@ class ScanAssembler {
   bool scanning() const { return !current_.measurements.empty() || !scan_points_.empty(); }
 
  private:
-  void track_sequence(uint32_t sequence);
+  // `next` is the sequence number the device says comes next (a measurement's own, or a
+  // status line's): any skipped since the last are lost.
+  void expect_next(uint32_t next);
   Revolution close_revolution();
 
   RangeGate gate_;
