@@ -19,6 +19,13 @@ std::string framed(const std::string& payload) {
   return line;
 }
 
+// Feeds one framed line to the assembler, at time 1 s.
+auto feeder(ScanAssembler& assembler) {
+  return [&assembler](const std::string& payload) {
+    return assembler.add(parse_line(framed(payload), Dialect::Scanbus), 1.0);
+  };
+}
+
 }  // namespace
 
 TEST(DeviceProtocol, MeasurementInSiUnits) {
@@ -76,9 +83,7 @@ TEST(DeviceProtocol, LegacyThesisLines) {
 
 TEST(ScanAssembler, RevolutionsScansAndGaps) {
   ScanAssembler assembler(RangeGate{0.05, 40});
-  auto feed = [&](const std::string& payload) {
-    return assembler.add(parse_line(framed(payload), Dialect::Scanbus), 1.0);
-  };
+  auto feed = feeder(assembler);
   feed("H scanbus-scanner 1 0.1.0");
   feed("M 0 0 9000 200 10");
   feed("M 1 100 9000 1 0");     // no return: out of range, kept in the batch, not a point
@@ -104,9 +109,7 @@ TEST(ScanAssembler, RevolutionsScansAndGaps) {
 
 TEST(ScanAssembler, EachScanCountsItsOwnLostLines) {
   ScanAssembler assembler(RangeGate{0.05, 40});
-  auto feed = [&](const std::string& payload) {
-    return assembler.add(parse_line(framed(payload), Dialect::Scanbus), 1.0);
-  };
+  auto feed = feeder(assembler);
   feed("M 5 0 9000 200 10");
   feed("M 8 100 9000 200 10");  // 6 and 7 lost
   feed("L 0 9000");
@@ -120,9 +123,7 @@ TEST(ScanAssembler, EachScanCountsItsOwnLostLines) {
 
 TEST(ScanAssembler, LinesLostRightAfterAConnectCountFromTheStatusLine) {
   ScanAssembler assembler(RangeGate{0.05, 40});
-  auto feed = [&](const std::string& payload) {
-    return assembler.add(parse_line(framed(payload), Dialect::Scanbus), 1.0);
-  };
+  auto feed = feeder(assembler);
   feed("S 1 1 199 0 7 0");    // a new reader: idle, 7 comes next
   feed("M 9 0 9000 200 10");  // 7 and 8 lost
   feed("L 0 9000");
@@ -134,9 +135,7 @@ TEST(ScanAssembler, LinesLostRightAfterAConnectCountFromTheStatusLine) {
 
 TEST(ScanAssembler, AScanWhoseEndWasLostLeavesTheNextOneWhole) {
   ScanAssembler assembler(RangeGate{0.05, 40});
-  auto feed = [&](const std::string& payload) {
-    return assembler.add(parse_line(framed(payload), Dialect::Scanbus), 1.0);
-  };
+  auto feed = feeder(assembler);
   feed("M 0 0 9000 200 10");
   feed("L 0 9000");
   feed("M 1 0 9300 200 10");
@@ -154,9 +153,7 @@ TEST(ScanAssembler, AScanWhoseEndWasLostLeavesTheNextOneWhole) {
 
 TEST(ScanAssembler, DeviceRestartAbortsThePartialScan) {
   ScanAssembler assembler(RangeGate{});
-  auto feed = [&](const std::string& payload) {
-    return assembler.add(parse_line(framed(payload), Dialect::Scanbus), 1.0);
-  };
+  auto feed = feeder(assembler);
   feed("M 0 0 9000 200 10");
   feed("L 0 9000");
   feed("H scanbus-scanner 1 0.1.0");  // power cycle: sequence starts over, no gap
@@ -168,9 +165,7 @@ TEST(ScanAssembler, DeviceRestartAbortsThePartialScan) {
 
 TEST(ScanAssembler, JoiningMidScanPublishesNoPartialScan) {
   ScanAssembler assembler(RangeGate{});
-  auto feed = [&](const std::string& payload) {
-    return assembler.add(parse_line(framed(payload), Dialect::Scanbus), 1.0);
-  };
+  auto feed = feeder(assembler);
   feed("M 40 0 9000 200 10");
   feed("L 5 5700");
   EXPECT_FALSE(feed("D 0 27").scan.has_value());
