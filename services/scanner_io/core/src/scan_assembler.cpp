@@ -81,7 +81,8 @@ Revolution ScanAssembler::close_revolution() {
 }
 
 void ScanAssembler::expect_next(uint32_t next) {
-  if (expected_sequence_ && next > *expected_sequence_) {
+  if (expected_sequence_ && next <= *expected_sequence_) return;  // nothing skipped
+  if (expected_sequence_) {
     const uint64_t gap = next - *expected_sequence_;
     counters_.lost_lines += gap;
     current_.lost += gap;

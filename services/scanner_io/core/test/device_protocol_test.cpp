@@ -130,6 +130,8 @@ TEST(ScanAssembler, LinesLostRightAfterAConnectCountFromTheStatusLine) {
   const auto done = feed("D 0 1");
   ASSERT_TRUE(done.scan.has_value());
   EXPECT_EQ(done.scan_lost_lines, 2u);
+  feed("S 1 1 199 0 9 0");  // a status behind what came since: nothing lost
+  feed("M 10 0 9000 200 10");
   EXPECT_EQ(assembler.counters().lost_lines, 2u);
 }
 

@@ -56,7 +56,7 @@ class ScanAssembler {
 
  private:
   // `next` is the sequence number the device says comes next (a measurement's own, or a
-  // status line's): any skipped since the last are lost.
+  // status line's): any skipped since the last are lost. Never moves the expectation back.
   void expect_next(uint32_t next);
   Revolution close_revolution();
 
