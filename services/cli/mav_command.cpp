@@ -156,15 +156,17 @@ nlohmann::json ground_error_json(const ground_evaluation::GroundModelError& g) {
 }
 
 nlohmann::json evaluation_json(const std::string& name, const FlightEvaluation& e) {
-  nlohmann::json json{{"flight", name},
-                      {"scans", e.scans},
-                      {"poses", e.poses},
-                      {"failed_matches", e.matches_failed},
-                      {"rejected_changes", e.changes_rejected},
-                      {"clearances", e.clearances},
-                      {"ground_cells", e.ground_cells},
-                      {"fusion_ms_per_update", e.fusion_ms_per_update},
-                      {"fused_within_sigma", {{"1", e.fused_within_sigma[0]}, {"2", e.fused_within_sigma[1]}}}};
+  nlohmann::json json{
+      {"flight", name},
+      {"scans", e.scans},
+      {"poses", e.poses},
+      {"failed_matches", e.matches_failed},
+      {"rejected_changes", e.changes_rejected},
+      {"clearances", e.clearances},
+      {"ground_cells", e.ground_cells},
+      {"fusion_ms_per_update", e.fusion_ms_per_update},
+      {"fused_within_sigma", {{"1", e.fused_within_sigma[0]}, {"2", e.fused_within_sigma[1]}}},
+      {"fused_immediate_within_sigma", {{"1", e.immediate_within_sigma[0]}, {"2", e.immediate_within_sigma[1]}}}};
   if (!e.has_ground) json["ground_error_note"] = "not measured: the log does not carry its true ground (META scenario)";
   const auto& grid = e.elevation;
   json["elevation_grid"] = {
@@ -177,6 +179,7 @@ nlohmann::json evaluation_json(const std::string& name, const FlightEvaluation& 
       json["ground_error_m"][ground_evaluation::kHeightSourceNames[source]] = ground_error_json(e.ground[source]);
     if (e.has_boxes) json["boxes"][ground_evaluation::kHeightSourceNames[source]] = boxes_json(e.boxes[source]);
   }
+  json["height_rmse_m"]["fused_immediate"] = e.immediate_rmse;
   if (e.has_ground) json["ground_error_m"]["true_height"] = ground_error_json(e.ground_at_true_height);
   return json;
 }

@@ -151,9 +151,12 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
   std::optional<double> integrated;             // the paper's height: first barometer + the changes
   std::vector<Eigen::Vector3f> at_true_height;  // the cloud a perfect height would give
   std::chrono::duration<double> fusion_time{0};
+  std::map<double, std::pair<double, double>> immediate;  // stamp: the fused height and sigma as first solved
   const auto take_poses = [&](bool all) {
     const auto started = std::chrono::steady_clock::now();
-    const auto poses = estimator.take_ready(all);
+    for (const auto& pose : estimator.take_ready(all))
+      immediate[pose.stamp] = {pose.position.z(), pose.position_sigma.z()};
+    const auto poses = estimator.take_settled(all);  // the cloud is built from these
     fusion_time += std::chrono::steady_clock::now() - started;
     for (const auto& pose : poses) {
       const auto found = scan_at.find(pose.stamp);
@@ -163,11 +166,15 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
       const double heights[kHeightSources] = {baro, *integrated, pose.position.z(),
                                               log.fixes.empty() ? NAN : gps.at(pose.stamp)};
       const double true_height = truth.at(pose.stamp);
+      const auto solved = immediate.find(pose.stamp);
       result.heights.push_back({pose.stamp,
                                 true_height,
                                 {heights[0], heights[1], heights[2], heights[3]},
                                 pose.clearance.value_or(NAN),
-                                pose.position_sigma.z()});
+                                pose.position_sigma.z(),
+                                solved->second.first,
+                                solved->second.second});
+      immediate.erase(immediate.begin(), std::next(solved));
       const auto points = cloud_assembly::scan_points(log.lasers[found->second], settings.gating);
       const auto place = [&](double height, std::vector<Eigen::Vector3f>& cloud) {
         Eigen::Isometry3d body = Eigen::Isometry3d::Identity();
@@ -226,11 +233,19 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
     for (const auto& h : result.heights) stamped.emplace_back(h.stamp, h.height[source]);
     result.height_rmse[source] = height_rmse(stamped, truth);
   }
+  std::vector<std::pair<double, double>> solved;
+  for (const auto& h : result.heights) solved.emplace_back(h.stamp, h.immediate);
+  result.immediate_rmse = height_rmse(solved, truth);
   for (int k = 1; k <= 2; ++k) {
-    const auto within = std::count_if(result.heights.begin(), result.heights.end(), [k](const HeightSample& h) {
+    const auto share = [&](auto error_within) {
+      const auto within = std::count_if(result.heights.begin(), result.heights.end(), error_within);
+      return result.heights.empty() ? NAN : static_cast<double>(within) / static_cast<double>(result.heights.size());
+    };
+    result.fused_within_sigma[k - 1] = share([k](const HeightSample& h) {
       return std::abs(h.height[static_cast<int>(HeightSource::Fused)] - h.truth) <= k * h.fused_sigma;
     });
-    if (!result.heights.empty()) result.fused_within_sigma[k - 1] = static_cast<double>(within) / result.heights.size();
+    result.immediate_within_sigma[k - 1] =
+        share([k](const HeightSample& h) { return std::abs(h.immediate - h.truth) <= k * h.immediate_sigma; });
   }
   result.changes_rejected = estimator.fusion().changes_rejected();
   result.ground_cells = estimator.fusion().ground_cells();

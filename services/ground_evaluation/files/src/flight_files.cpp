@@ -15,11 +15,11 @@ namespace {
 
 void write_heights(const std::string& path, const std::vector<HeightSample>& samples) {
   std::ofstream file(path);
-  file << "stamp,truth,barometer,scan_matcher,fused,gps,clearance,fused_sigma\n";
+  file << "stamp,truth,barometer,scan_matcher,fused,gps,clearance,fused_sigma,fused_immediate,fused_immediate_sigma\n";
   for (const auto& sample : samples)
     file << std::fixed << std::setprecision(4) << sample.stamp << ',' << sample.truth << ',' << sample.height[0] << ','
          << sample.height[1] << ',' << sample.height[2] << ',' << sample.height[3] << ',' << sample.clearance << ','
-         << sample.fused_sigma << '\n';
+         << sample.fused_sigma << ',' << sample.immediate << ',' << sample.immediate_sigma << '\n';
   file.close();
   if (!file) throw std::runtime_error("cannot write " + path);
 }

@@ -8,6 +8,7 @@
 #include <set>
 #include <tuple>
 #include <unordered_map>
+#include <utility>
 
 namespace scanbus::pose_estimation {
 
@@ -233,11 +234,12 @@ void HeightFusion::add_barometer_residual(const Sample& sample) {
 void HeightFusion::slide() {
   const double cutoff = nodes_.back().first - settings_.window;
   if (nodes_.size() <= 2 || nodes_[1].first > cutoff - kSlideEvery) return;
-  std::vector<long> dropped;
+  std::vector<std::pair<double, long>> settling;  // the nodes leaving
   while (nodes_.size() > 2 && nodes_[1].first <= cutoff) {
-    dropped.push_back(nodes_.front().second);
+    settling.push_back(nodes_.front());
     nodes_.pop_front();
   }
+  std::vector<long> dropped;
   for (Chain* biases : {&biases_, &gps_biases_}) {
     while (biases->size() > 2 && (*biases)[1].first <= nodes_.front().first) {
       dropped.push_back(biases->front().second);
@@ -254,23 +256,56 @@ void HeightFusion::slide() {
               [](const auto& a, const auto& b) { return a->second.seen < b->second.seen; });
     leaving.resize(std::min(leaving.size(), corners_.size() - static_cast<size_t>(settings_.max_corners * 9 / 10)));
   }
-  if (!leaving.empty()) {
-    std::vector<long> order;
-    for (const auto& [state, value] : states_) order.push_back(state);
-    Eigen::SparseMatrix<double> H;
-    Eigen::VectorXd g;
-    normal_equations(residuals_, order, H, g);
-    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(H);
-    for (const auto& it : leaving) {
-      const long state = it->second.state;
-      const long index = std::lower_bound(order.begin(), order.end(), state) - order.begin();
-      const double variance = solver.solve(Eigen::VectorXd::Unit(H.rows(), index))[index];
-      known_ground_[it->first] = {states_.at(state), std::sqrt(std::max(variance, 1e-8))};
-      dropped.push_back(state);
-      corners_.erase(it);
-    }
+  std::vector<long> asked;
+  for (const auto& [stamp, state] : settling) asked.push_back(state);
+  for (const auto& it : leaving) asked.push_back(it->second.state);
+  const std::vector<double> sigmas = marginal_sigmas(asked);
+  for (size_t i = 0; i < settling.size(); ++i) {
+    settle(settling[i].first, settling[i].second, sigmas[i]);
+    dropped.push_back(settling[i].second);
+  }
+  for (size_t i = 0; i < leaving.size(); ++i) {
+    const long state = leaving[i]->second.state;
+    known_ground_[leaving[i]->first] = {states_.at(state), sigmas[settling.size() + i]};
+    dropped.push_back(state);
+    corners_.erase(leaving[i]);
   }
   if (!dropped.empty()) marginalise(dropped);
+}
+
+std::vector<double> HeightFusion::marginal_sigmas(const std::vector<long>& states) const {
+  if (states.empty()) return {};
+  std::vector<long> order;
+  for (const auto& [state, value] : states_) order.push_back(state);
+  Eigen::SparseMatrix<double> H;
+  Eigen::VectorXd g;
+  normal_equations(residuals_, order, H, g);
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(H);
+  std::vector<double> sigmas;
+  for (long state : states) {
+    const long index = std::lower_bound(order.begin(), order.end(), state) - order.begin();
+    const double variance = solver.solve(Eigen::VectorXd::Unit(H.rows(), index))[index];
+    sigmas.push_back(std::sqrt(std::max(variance, 1e-8)));
+  }
+  return sigmas;
+}
+
+void HeightFusion::settle(double stamp, long height, double sigma) {
+  if (stamp <= settled_through_) return;  // settled already when the input ended once before
+  settled_.push_back({stamp, states_.at(height), sigma});
+  settled_through_ = stamp;
+}
+
+std::vector<SettledHeight> HeightFusion::take_settled(bool all) {
+  if (all && !nodes_.empty()) {
+    solve();
+    since_solve_ = 0;
+    std::vector<long> window;
+    for (const auto& [stamp, state] : nodes_) window.push_back(state);
+    const std::vector<double> sigmas = marginal_sigmas(window);
+    for (size_t i = 0; i < nodes_.size(); ++i) settle(nodes_[i].first, nodes_[i].second, sigmas[i]);
+  }
+  return std::exchange(settled_, {});
 }
 
 void HeightFusion::normal_equations(const std::vector<Linear>& residuals, const std::vector<long>& order,

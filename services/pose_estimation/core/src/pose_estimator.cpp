@@ -165,6 +165,7 @@ EstimatedPose PoseEstimator::estimate(const Match& match) {
   pose.position_sigma = position_sigma_;
   pose.position_sigma.z() = fusion_.height_sigma();
   if (attitude) previous_ = {match.stamp, *attitude};
+  unsettled_.emplace(pose.stamp, pose);
   return pose;
 }
 
@@ -173,6 +174,19 @@ std::vector<EstimatedPose> PoseEstimator::take_ready(bool all) {
   while (!matches_.empty() && (all || ready(matches_.front()))) {
     poses.push_back(estimate(matches_.front()));
     matches_.pop_front();
+  }
+  return poses;
+}
+
+std::vector<EstimatedPose> PoseEstimator::take_settled(bool all) {
+  std::vector<EstimatedPose> poses;
+  for (const SettledHeight& node : fusion_.take_settled(all)) {
+    const auto found = unsettled_.find(node.stamp);
+    if (found == unsettled_.end()) continue;
+    EstimatedPose& pose = poses.emplace_back(found->second);
+    pose.position.z() = node.height;
+    pose.position_sigma.z() = node.sigma;
+    unsettled_.erase(unsettled_.begin(), std::next(found));
   }
   return poses;
 }

@@ -31,6 +31,7 @@ namespace {
 
 struct Track {
   std::vector<double> truth, baro, fused, integrated, sigma;
+  std::vector<SettledHeight> settled;  // the heights as they left the window, less the truth
   uint64_t rejected = 0, baro_outliers = 0;
 };
 
@@ -57,6 +58,15 @@ double x_at(double t) {
   return phase < 24 ? 0.5 * phase : 0.5 * (48 - phase);
 }
 
+double true_height(double t) { return 3 + 0.4 * std::sin(t / 3); }
+
+void take_settled(HeightFusion& fusion, Track& track, bool all = false) {
+  for (SettledHeight node : fusion.take_settled(all)) {
+    node.height -= true_height(node.stamp);
+    track.settled.push_back(node);
+  }
+}
+
 double ground_at(const FlightPlan& plan, double x) {
   return plan.slope * x + (plan.over_block && x >= 8.2 ? 1.0 : 0.0);
 }
@@ -69,7 +79,7 @@ Track fly(const FusionSettings& settings, const FlightPlan& plan = {}) {
   double drift = 0, previous = 0, integrated = 0, wander = 0, previous_ground = 0;
   const bool ground = plan.ground || plan.over_block;
   for (int k = 0; k < plan.scans; ++k) {
-    const double t = k / 30.0, h = 3 + 0.4 * std::sin(t / 3), x = x_at(t);
+    const double t = k / 30.0, h = true_height(t), x = x_at(t);
     if (k % 3 == 0) {
       drift += 0.02 * std::sqrt(0.1) * gauss(random);
       const double baro = h + drift + 0.3 * gauss(random) + (t >= 50 && t < 55 ? plan.baro_jump : 0.0);
@@ -96,7 +106,9 @@ Track fly(const FusionSettings& settings, const FlightPlan& plan = {}) {
     track.fused.push_back(fusion.add_node(t, change, returns) - h);
     track.sigma.push_back(fusion.height_sigma());
     track.integrated.push_back(integrated - h);
+    take_settled(fusion, track);
   }
+  take_settled(fusion, track, true);
   track.rejected = fusion.changes_rejected();
   track.baro_outliers = fusion.barometer_outliers();
   return track;
@@ -252,6 +264,35 @@ TEST(HeightFusion, GroundSeenAgainHoldsTheHeightOverABlock) {
     EXPECT_LT(worst, 0.35);         // a block's edge never carries the height off by its 1 m
     EXPECT_EQ(track.rejected, 8u);  // the matcher's jumps at the 8 edges the flight crosses
   }
+}
+
+TEST(HeightFusion, EachHeightSettlesOnceCloserToTheTruthWithAnHonestSigma) {
+  // Over the block and over the slope, where later scans see the same ground again.
+  size_t within_sigma = 0, scored = 0;
+  for (const bool over_block : {false, true}) {
+    for (unsigned seed : {1u, 2u, 3u}) {
+      FlightPlan plan{5400, seed, over_block};
+      plan.ground = true;
+      plan.slope = over_block ? 0.0 : 0.052;
+      const Track track = fly({}, plan);
+      ASSERT_EQ(track.settled.size(), track.fused.size());  // every node once, the window's at the end
+      std::vector<double> errors;
+      for (size_t k = 0; k < track.settled.size(); ++k) {
+        EXPECT_DOUBLE_EQ(track.settled[k].stamp, k / 30.0);
+        errors.push_back(track.settled[k].height);
+        if (k < 30) continue;  // before the first solves
+        within_sigma += std::abs(track.settled[k].height) <= track.settled[k].sigma;
+        ++scored;
+      }
+      std::printf("%s, seed %u: fused height RMSE %.4f m as solved, %.4f m as settled\n",
+                  over_block ? "block" : "slope", seed, rms(track.fused), rms(errors));
+      EXPECT_LT(rms(errors), rms(track.fused));
+    }
+  }
+  const double share = static_cast<double>(within_sigma) / static_cast<double>(scored);
+  std::printf("settled errors within 1 sigma: %.1f %%\n", 100 * share);
+  EXPECT_GT(share, 0.5);  // six correlated flights: a loose check, as above
+  EXPECT_LT(share, 0.9);
 }
 
 TEST(HeightFusion, ReturnsThatCannotBePlacedAreLeftOut) {

@@ -3,7 +3,9 @@
 // it. Four heights side by side: as the MAV paper compares them, the barometer alone
 // (the paper's "without laser scan matcher") and the barometer's first sample plus the
 // integrated scan-matcher changes (its "with laser scan matcher", section 3.6); the GPS
-// altitude alone; and the fusion. The DDS pipeline must reach the same figures (tests/integration).
+// altitude alone; and the fusion, as each pose left its window (settled, what the cloud is
+// built from; the height as first solved is scored beside it). The DDS pipeline must reach the same figures
+// (tests/integration).
 #pragma once
 
 #include <Eigen/Core>
@@ -87,6 +89,9 @@ struct HeightSample {
   double height[kHeightSources] = {0, 0, 0, 0};  // by HeightSource (GPS: NaN in a log without fixes)
   double clearance = NAN;    // m above the ground under the pose's scan (its median return), NaN when none
   double fused_sigma = NAN;  // m, the standard deviation the pose carries for its fused height
+  // The fused height and its sigma as first solved, on rt/pose (the fused height above is the
+  // settled one, PoseEstimator::take_settled, which places the scans).
+  double immediate = NAN, immediate_sigma = NAN;
 };
 
 struct FlightEvaluation {
@@ -95,11 +100,13 @@ struct FlightEvaluation {
   size_t ground_cells = 0;                            // corners of the fusion's elevation map at the end
   double height_rmse[kHeightSources] = {0, 0, 0, 0};  // m against the truth, by HeightSource (NaN: no such height)
   double fusion_ms_per_update = 0;                    // wall time of the pose estimator per scan
-  double fused_within_sigma[2] = {NAN, NAN};  // share of poses whose fused height is within 1 and 2 of its sigmas
-  bool has_boxes = false;                     // the log names its boxes (scenario IV)
-  BoxEvaluation boxes[kHeightSources];        // the cloud built with each height
-  bool has_ground = false;                    // the true ground is known (settings.true_ground)
-  GroundModelError ground[kHeightSources];    // the cloud built with each height against it
+  double fused_within_sigma[2] = {NAN, NAN};      // share of poses whose fused height is within 1 and 2 of its sigmas
+  double immediate_rmse = NAN;                    // m, of the fused heights as first solved
+  double immediate_within_sigma[2] = {NAN, NAN};  // and their share within 1 and 2 sigmas
+  bool has_boxes = false;                         // the log names its boxes (scenario IV)
+  BoxEvaluation boxes[kHeightSources];            // the cloud built with each height
+  bool has_ground = false;                        // the true ground is known (settings.true_ground)
+  GroundModelError ground[kHeightSources];        // the cloud built with each height against it
   // The cloud built with the true height, every other sensor (position, attitude, laser) as
   // flown: the part of the ground's error that no height estimate can remove.
   GroundModelError ground_at_true_height;

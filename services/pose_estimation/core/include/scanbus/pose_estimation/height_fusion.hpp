@@ -87,6 +87,12 @@ struct FusionSettings {
   double origin_sigma = 0.05;    // m: how well (rough ground, where the origin was taken)
 };
 
+// A node's height as it left the window: solved with every sample of the `window` seconds
+// after it (a fixed-lag smoother's output), with its marginal standard deviation then.
+struct SettledHeight {
+  double stamp = 0, height = 0, sigma = 0;  // s, m, m
+};
+
 class HeightFusion {
  public:
   explicit HeightFusion(FusionSettings settings = {});
@@ -105,6 +111,10 @@ class HeightFusion {
   // the ground. Returns the height now estimated for this node. The first node starts at the
   // first barometer altitude and is solved at once when a barometer or GPS altitude ties it.
   double add_node(double stamp, std::optional<double> change, const std::vector<GroundReturn>& ground = {});
+
+  // The heights of the nodes that left the window since the last call, oldest first (each
+  // node once). With `all` (the input has ended) also those still in it, solved now.
+  std::vector<SettledHeight> take_settled(bool all = false);
 
   // Barometer altitudes more than 5 sigma from the estimate when they entered (left out
   // unless the barometer has been off for baro_gate_time).
@@ -156,6 +166,9 @@ class HeightFusion {
   void solve();
   void slide();
   void marginalise(const std::vector<long>& dropped);
+  // Each state's marginal standard deviation (its diagonal entry of H^-1) at the estimate.
+  std::vector<double> marginal_sigmas(const std::vector<long>& states) const;
+  void settle(double stamp, long height, double sigma);
   // Gauss-Newton normal equations (H, g) of `residuals` and the prior over the states in
   // `order` (all the prior's among them), at the current estimate, robust residuals with the
   // weight their loss gives them there.
@@ -185,6 +198,8 @@ class HeightFusion {
   double height_sigma_ = 0;
   std::optional<std::pair<double, double>> last_change_;  // stamp, value of the last accepted change
   uint64_t changes_rejected_ = 0;
+  std::vector<SettledHeight> settled_;  // until take_settled
+  double settled_through_ = -1e300;     // stamp of the newest node settled
 };
 
 }  // namespace scanbus::pose_estimation

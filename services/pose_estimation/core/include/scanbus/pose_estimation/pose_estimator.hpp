@@ -67,6 +67,12 @@ class PoseEstimator {
   // Poses of the results that became ready, oldest first; with `all`, of every result
   // (the input has ended).
   std::vector<EstimatedPose> take_ready(bool all = false);
+  // The same poses again as they leave the fusion's window (FusionSettings::window s of
+  // stamps later), their height and its sigma solved with every sample of that window: a
+  // fixed-lag smoother's output, what a ground model is built from (docs/architecture.md).
+  // Oldest first, each once. With `all` (the input has ended; after take_ready(true)), every
+  // pose not settled yet. Callers take them, or they are kept.
+  std::vector<EstimatedPose> take_settled(bool all = false);
 
   // The altitude above the map origin that a pressure means.
   double barometric_height(double pascal) const;
@@ -89,6 +95,7 @@ class PoseEstimator {
   transforms::TransformSeries attitudes_{30.0}, positions_{30.0};
   Eigen::Vector3d position_sigma_ = Eigen::Vector3d::Zero();
   std::deque<Match> matches_;
+  std::map<double, EstimatedPose> unsettled_;             // by stamp, until take_settled
   std::map<double, std::vector<Eigen::Vector3d>> scans_;  // points in the laser's frame by stamp, until
                                                           // the match is estimated
   double newest_scan_ = -INFINITY;                        // none yet: matches do not wait for scans
