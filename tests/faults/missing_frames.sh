@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # cloud_assembly with scans but no transform for them (pose_estimation not running, so no
 # rt/tf_static and no rt/tf): after a second its Health says the scans wait and names the
-# frames no transform joins, before any scan is dropped (transform_timeout, 2 s of stamps).
+# frames no transform joins, before any scan is dropped (transform_timeout, 6 s of stamps).
 #   missing_frames.sh SCANBUS
 set -uo pipefail
 source "$(dirname "$0")/../integration/lib.sh"

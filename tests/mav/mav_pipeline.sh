@@ -37,9 +37,12 @@ printf 'sensor_replay:\n  log: %s\n  rate: %s\n  wait_for_readers: 2\n' "$flight
 # The shipped pose_estimation config waits 0.5 s of stamp time for a late IMU or GPS sample:
 # 125 ms of wall time at 4x, which a loaded machine passed (fused 0.017 m for 0.014, boxes
 # P 98.0 % in one CI run). A second of wall time, as the demo's launch gives it.
-sed "s/^  max_wait: [0-9.]*/  max_wait: $(python3 -c "print(min(float('$rate'), 10.0))")/" \
+# The flight's last 3 s of poses settle once the input has ended: said after 1.5 s, not 5.
+sed -e "s/^  max_wait: [0-9.]*/  max_wait: $(python3 -c "print(min(float('$rate'), 10.0))")/" \
+  -e "s/^  input_ended_after: [0-9.]*/  input_ended_after: 1.5/" \
   "$config/services/pose_estimation.yaml" > "$work/pose_estimation.yaml"
 grep -q "^  max_wait: " "$work/pose_estimation.yaml" || { echo "no max_wait in pose_estimation.yaml"; exit 1; }
+grep -q "^  input_ended_after: 1.5" "$work/pose_estimation.yaml" || { echo "no input_ended_after in pose_estimation.yaml"; exit 1; }
 # So a scan waits for its pose longer than the pose waits for its IMU sample: with the shipped
 # 2 s of stamp time (0.5 s of wall time at 4x) a loaded CI machine dropped 53 scans from the
 # window (1,930,628 points for 1,949,761) and box P fell to 98.0 %, twice. As the demo's launch.
@@ -54,7 +57,8 @@ for service in scan_matcher pose_estimation cloud_assembly; do
   "$scanbus" run "$service" --config "$file" > "$work/$service.log" 2>&1 &
   pids+=($!)
 done
-"$scanbus" echo rt/pose > "$work/poses.jsonl" 2> "$work/echo.log" &
+# The settled poses: what places the scans, and what 'scanbus eval mav' scores as fused.
+"$scanbus" echo rt/pose/settled > "$work/poses.jsonl" 2> "$work/echo.log" &
 echo_pid=$!
 pids+=($echo_pid)
 "$scanbus" echo rt/truth/pose > "$work/truth.jsonl" 2> "$work/echo_truth.log" &
@@ -69,7 +73,7 @@ else
   "$scanbus" run sensor_replay --config "$work/replay.yaml" > "$work/replay.log" 2>&1 || { cat "$work/replay.log"; exit 1; }
 fi
 echo "replay of ${flight##*/} at ${rate}x took $(( $(date +%s) - started )) s"
-sleep 2  # the last poses and the last cloud
+sleep 4  # the last poses (settled 1.5 s after the input ended) and the last cloud
 kill -INT "$echo_pid" "$truth_pid"; wait "$echo_pid" "$truth_pid"
 grep -h "samples lost" "$work"/*.log | tail -5  # where poses went missing, if any did
 # Scans the cloud lost (scans_dropped) and why (its last error): Health, not the log, says it.

@@ -1,6 +1,8 @@
 // Thin DDS node around Assembler (scans, transforms and window requests in; the service's
 // logic is there): the continuous cloud and its elevation grid are published every period
-// when it grew; requests are answered from the window.
+// when it grew; requests are answered from the window. The body's pose comes from
+// rt/pose/settled (the fusion's heights as they left its window) unless settled_poses is
+// false, when rt/tf's, as first solved, places the scans.
 #include "cloud_assembly_node.hpp"
 
 #include <algorithm>
@@ -26,6 +28,8 @@ struct Settings {
   AssemblerSettings assembler;
   double publish_period;
   ElevationGridSettings elevation;  // cell_size 0: no grid published
+  bool settled_poses;               // the body in fixed_frame from rt/pose/settled, not rt/tf
+  std::string body_frame;           // the frame rt/pose/settled places
 };
 
 Settings read_settings(const Config& config) {
@@ -38,9 +42,11 @@ Settings read_settings(const Config& config) {
   a.max_voxels = static_cast<size_t>(config.integer("max_voxels", 5000000, 1, 1000000000));
   a.window_age = config.number("window_age", 600.0, 0.1, 86400);
   a.window_points = static_cast<size_t>(config.integer("window_points", 20000000, 1, 1000000000));
-  a.transform_timeout = config.number("transform_timeout", 2.0, 0.0, 600);
+  a.transform_timeout = config.number("transform_timeout", 6.0, 0.0, 600);
   a.cache_time = config.number("cache_time", 30.0, 1.0, 3600);
   s.publish_period = config.number("publish_period", 1.0, 0.05, 3600);
+  s.settled_poses = config.flag("settled_poses", true);
+  s.body_frame = config.text("body_frame", "base_link");
   const Config elevation = config.section("elevation");
   s.elevation.cell_size = elevation.number("cell_size", 0.5, 0.0, 1000);
   s.elevation.min_points = static_cast<size_t>(elevation.integer("min_points", 3, 1, 1000000));
@@ -78,6 +84,9 @@ class CloudAssembly : public Service {
         context.participant, topics::kTfStatic, [this](const auto& m, const auto&) { receive(m, true); });
     tf_ = std::make_unique<Reader<tf2_msgs::msg::TFMessagePubSubType>>(
         context.participant, topics::kTf, [this](const auto& m, const auto&) { receive(m, false); });
+    if (settings_.settled_poses)
+      settled_poses_ = std::make_unique<Reader<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType>>(
+          context.participant, topics::kPoseSettled, [this](const auto& m, const auto&) { receive(m); });
     scans_ = std::make_unique<Reader<sensor_msgs::msg::LaserScanPubSubType>>(
         context.participant, topics::kScan, [this](const auto& m, const auto&) { receive(m); });
     requests_ = std::make_unique<Reader<scanbus::msg::AssembleRequestPubSubType>>(
@@ -90,6 +99,7 @@ class CloudAssembly : public Service {
     requests_.reset();  // no callback may outlive what it uses
     scans_.reset();
     tf_.reset();
+    settled_poses_.reset();
     tf_static_.reset();
     publish_if_grown();  // what came in since the last period
     assembled_.wait_for_acknowledgments(std::chrono::seconds(2));
@@ -100,6 +110,7 @@ class CloudAssembly : public Service {
   void receive(const tf2_msgs::msg::TFMessage& message, bool is_static) {
     std::lock_guard<std::mutex> lock(mutex_);
     for (const auto& t : message.transforms()) {
+      if (!is_static && settings_.settled_poses && t.child_frame_id() == settings_.body_frame) continue;
       try {
         const Eigen::Isometry3d transform = to_eigen(t.transform());
         if (is_static)
@@ -111,6 +122,18 @@ class CloudAssembly : public Service {
         ++health_.counter("transforms_rejected");
         health_.error(e.what());
       }
+    }
+    count(assembler_.assemble_ready(steady_seconds()));
+  }
+
+  void receive(const geometry_msgs::msg::PoseWithCovarianceStamped& message) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    try {
+      assembler_.add_transform(message.header().frame_id(), settings_.body_frame, to_seconds(message.header().stamp()),
+                               to_eigen(message.pose().pose()));
+    } catch (const transforms::TransformError& e) {
+      ++health_.counter("transforms_rejected");
+      health_.error(e.what());
     }
     count(assembler_.assemble_ready(steady_seconds()));
   }
@@ -199,6 +222,7 @@ class CloudAssembly : public Service {
   Writer<sensor_msgs::msg::PointCloud2PubSubType> assembled_, elevation_;
   Writer<scanbus::msg::AssembleReplyPubSubType> replies_;
   std::unique_ptr<Reader<tf2_msgs::msg::TFMessagePubSubType>> tf_static_, tf_;
+  std::unique_ptr<Reader<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType>> settled_poses_;
   std::unique_ptr<Reader<sensor_msgs::msg::LaserScanPubSubType>> scans_;
   std::unique_ptr<Reader<scanbus::msg::AssembleRequestPubSubType>> requests_;
 };

@@ -13,6 +13,13 @@ Eigen::Isometry3d to_eigen(const geometry_msgs::msg::Transform& t) {
   return result;
 }
 
+Eigen::Isometry3d to_eigen(const geometry_msgs::msg::Pose& p) {
+  Eigen::Isometry3d result = Eigen::Isometry3d::Identity();
+  result.translation() = to_eigen(p.position());
+  result.linear() = to_eigen(p.orientation()).normalized().toRotationMatrix();
+  return result;
+}
+
 geometry_msgs::msg::Quaternion to_quaternion_message(const Eigen::Quaterniond& q) {
   geometry_msgs::msg::Quaternion message;
   message.x(q.x());

@@ -22,6 +22,9 @@ TEST(GeometryMessage, APoseSurvivesTheWire) {
   const auto message = to_pose_message(position, kTurn);
   EXPECT_EQ(to_eigen(message.position()), position);
   EXPECT_TRUE(to_eigen(message.orientation()).isApprox(kTurn, 0));
+  const Eigen::Isometry3d pose = to_eigen(message);  // as a transform of the body in its frame
+  EXPECT_EQ(pose.translation(), position);
+  EXPECT_TRUE(pose.linear().isApprox(kTurn.toRotationMatrix(), 1e-12));
 }
 
 TEST(GeometryMessage, ATransformSurvivesTheWire) {

@@ -40,10 +40,12 @@ std::vector<double> degrees(const std::vector<double>& radians) {
   return result;
 }
 
+constexpr double kInputEndedAfter = 1.5;  // s of wall time
+
 FlightConfigs flight_configs(const sensor_replay::MavLog& log, const std::string& log_path, double rate) {
   ServiceConfig lossless;
   for (const char* topic : {topics::kScan.name, topics::kImu.name, topics::kFix.name, topics::kPressure.name,
-                            topics::kScanMatch.name, topics::kPose.name, topics::kTf.name})
+                            topics::kScanMatch.name, topics::kPose.name, topics::kPoseSettled.name, topics::kTf.name})
     lossless.qos[topic] = QosSettings{true, false, false, 1000};
   FlightConfigs configs{lossless, lossless, lossless, lossless};
   const YAML::Node mav = YAML::Load(ground_evaluation::mav_scan_matcher_config());
@@ -57,6 +59,8 @@ FlightConfigs flight_configs(const sensor_replay::MavLog& log, const std::string
   pose["laser_mount"]["xyz"] = std::vector<double>(mount.begin(), mount.begin() + 3);
   pose["laser_mount"]["rpy"] = degrees(std::vector<double>(mount.begin() + 3, mount.end()));
   pose["max_wait"] = std::min(1.0 * rate, 10.0);  // a second of wall time, in stamp time
+  // The flight's last 3 s settle when the input has ended: said sooner than the shipped 5 s.
+  pose["input_ended_after"] = kInputEndedAfter;
   configs.cloud_assembly.settings["transform_timeout"] = 30;
   configs.sensor_replay.settings["log"] = log_path;
   configs.sensor_replay.settings["rate"] = rate;
@@ -78,9 +82,9 @@ MavFlightResult run_mav_flight(System& system, const MavFlightOptions& options) 
 
   Participant participant(system.dds(), "scanbus/demo");
   std::mutex mutex;
-  std::vector<std::pair<double, double>> heights;  // stamp, fused height
+  std::vector<std::pair<double, double>> heights;  // stamp, fused height as it settled (what places the scans)
   Reader<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType> poses(
-      participant, topics::kPose, QosSettings{true, false, false, 1000}, [&](const auto& pose, const auto&) {
+      participant, topics::kPoseSettled, QosSettings{true, false, false, 1000}, [&](const auto& pose, const auto&) {
         std::lock_guard<std::mutex> lock(mutex);
         heights.emplace_back(to_seconds(pose.header().stamp()), pose.pose().pose().position().z());
       });
@@ -112,8 +116,9 @@ MavFlightResult run_mav_flight(System& system, const MavFlightOptions& options) 
           std::printf("\rMAV flight: pose %zu of %zu", received(), log.lasers.size()), std::fflush(stdout);
         if (!replay.exited()) return false;
         if (!ended) ended = std::chrono::steady_clock::now();
-        // The last poses may still be on their way.
-        return received() >= log.lasers.size() || std::chrono::steady_clock::now() - *ended > std::chrono::seconds(2);
+        // The last poses settle once the input has ended, and may still be on their way.
+        return received() >= log.lasers.size() ||
+               std::chrono::steady_clock::now() - *ended > std::chrono::duration<double>(kInputEndedAfter + 2);
       },
       options.timeout, "the flight's replay did not end", std::chrono::milliseconds(200));
   if (options.progress) std::printf("\n");

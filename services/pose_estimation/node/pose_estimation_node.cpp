@@ -1,5 +1,6 @@
 // Thin DDS node around the PoseEstimator: every input goes in under one lock, every pose
-// that becomes ready goes out as PoseWithCovarianceStamped and as the base_link transform.
+// that becomes ready goes out as PoseWithCovarianceStamped and as the base_link transform,
+// and again on rt/pose/settled when its height leaves the fusion's window.
 #include "pose_estimation_node.hpp"
 
 #include <cmath>
@@ -43,6 +44,7 @@ class PoseEstimation : public Service {
         input_ended_after_(context.config.section("pose_estimation").number("input_ended_after", 5.0, 0.05, 3600.0)),
         estimator_(settings_),
         poses_(context.participant, topics::kPose),
+        settled_poses_(context.participant, topics::kPoseSettled),
         tf_(context.participant, topics::kTf),
         tf_static_(context.participant, topics::kTfStatic) {
     mount_.transforms().push_back(
@@ -172,14 +174,7 @@ class PoseEstimation : public Service {
     report_barometer_outliers();
     for (const auto& pose : estimator_.take_ready(input_ended)) {
       if (input_ended) ++health_.counter("poses_after_input_ended");
-      geometry_msgs::msg::PoseWithCovarianceStamped message;
-      message.header().stamp(to_stamp(pose.stamp));
-      message.header().frame_id(frames_.map);
-      message.pose().pose(to_pose_message(pose.position, pose.orientation));
-      // Position variances on the diagonal; the attitude's are not estimated (left 0).
-      for (int axis = 0; axis < 3; ++axis)
-        message.pose().covariance()[axis * 7] = pose.position_sigma[axis] * pose.position_sigma[axis];
-      poses_.write(message);
+      poses_.write(pose_message(pose));
       Eigen::Isometry3d body = Eigen::Isometry3d::Identity();
       body.translation() = pose.position;
       body.linear() = pose.orientation.toRotationMatrix();
@@ -193,6 +188,21 @@ class PoseEstimation : public Service {
       // Cells left out as steps or edges (FusionSettings::clearance_gate): a count, not a fault.
       health_.counter("ground_cells_gated") = estimator_.fusion().cells_gated();
     }
+    for (const auto& pose : estimator_.take_settled(input_ended)) {
+      settled_poses_.write(pose_message(pose));
+      ++health_.counter("poses_settled");
+    }
+  }
+
+  geometry_msgs::msg::PoseWithCovarianceStamped pose_message(const EstimatedPose& pose) const {
+    geometry_msgs::msg::PoseWithCovarianceStamped message;
+    message.header().stamp(to_stamp(pose.stamp));
+    message.header().frame_id(frames_.map);
+    message.pose().pose(to_pose_message(pose.position, pose.orientation));
+    // Position variances on the diagonal; the attitude's are not estimated (left 0).
+    for (int axis = 0; axis < 3; ++axis)
+      message.pose().covariance()[axis * 7] = pose.position_sigma[axis] * pose.position_sigma[axis];
+    return message;
   }
 
   std::shared_ptr<spdlog::logger> log_;
@@ -204,7 +214,7 @@ class PoseEstimation : public Service {
   std::chrono::steady_clock::time_point last_input_ = std::chrono::steady_clock::now();
   std::mutex mutex_;
   PoseEstimator estimator_;
-  Writer<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType> poses_;
+  Writer<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType> poses_, settled_poses_;
   Writer<tf2_msgs::msg::TFMessagePubSubType> tf_;
   Writer<tf2_msgs::msg::TFMessagePubSubType> tf_static_;
   tf2_msgs::msg::TFMessage mount_;  // laser in base_link, for rt/tf_static

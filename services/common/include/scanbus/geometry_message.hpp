@@ -15,6 +15,7 @@ Eigen::Quaterniond to_eigen(const geometry_msgs::msg::Quaternion& q);
 Eigen::Vector3d to_eigen(const geometry_msgs::msg::Point& p);
 // The rotation normalised: a transform is a rigid motion whatever rounding the sender did.
 Eigen::Isometry3d to_eigen(const geometry_msgs::msg::Transform& t);
+Eigen::Isometry3d to_eigen(const geometry_msgs::msg::Pose& p);  // likewise
 
 geometry_msgs::msg::Quaternion to_quaternion_message(const Eigen::Quaterniond& q);
 geometry_msgs::msg::Point to_point_message(const Eigen::Vector3d& p);

@@ -28,6 +28,7 @@ inline constexpr Topic<sensor_msgs::msg::FluidPressurePubSubType> kPressure{"rt/
 inline constexpr Topic<geometry_msgs::msg::PoseStampedPubSubType> kTruthPose{"rt/truth/pose"};
 inline constexpr Topic<msg::ScanMatchPubSubType> kScanMatch{"rt/scan_match"};
 inline constexpr Topic<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType> kPose{"rt/pose"};
+inline constexpr Topic<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType> kPoseSettled{"rt/pose/settled"};
 inline constexpr Topic<tf2_msgs::msg::TFMessagePubSubType> kTf{"rt/tf"};
 inline constexpr Topic<tf2_msgs::msg::TFMessagePubSubType> kTfStatic{"rt/tf_static"};
 inline constexpr Topic<sensor_msgs::msg::PointCloud2PubSubType> kCloudAssembled{"rt/cloud/assembled"};
@@ -42,7 +43,8 @@ inline constexpr Topic<sensor_msgs::msg::PointCloud2PubSubType> kRoomWalls{"rt/r
 template <class F>
 void for_each_typed_topic(F&& f) {
   f(kHealth), f(kScannerCommand), f(kScannerStatus), f(kScannerSpherical), f(kScannerCloud), f(kScannerScanCloud);
-  f(kScan), f(kImu), f(kFix), f(kPressure), f(kTruthPose), f(kScanMatch), f(kPose), f(kTf), f(kTfStatic);
+  f(kScan), f(kImu), f(kFix), f(kPressure), f(kTruthPose), f(kScanMatch), f(kPose), f(kPoseSettled), f(kTf);
+  f(kTfStatic);
   f(kCloudAssembled), f(kCloudElevation), f(kAssembleRequest), f(kAssembleReply), f(kClock);
   f(kRoomMeasurement), f(kRoomWalls);
 }
