@@ -440,3 +440,40 @@ TEST(PoseEstimator, HeightsDoNotDependOnTheOrderSamplesArrive) {
     EXPECT_DOUBLE_EQ(late[i].position.z(), in_order[i].position.z()) << "pose " << i;
   }
 }
+
+// Each pose settles once, in order, where it was placed but for its height and that
+// height's sigma; the input's end settles those still in the window, and a later input
+// does not settle them again.
+TEST(PoseEstimator, EachPoseSettlesOnceAfterTheWindow) {
+  PoseEstimator estimator(settings_at_origin());
+  std::vector<EstimatedPose> ready, settled;
+  const auto fly = [&](int from, int to) {
+    for (int i = from; i < to; ++i) {
+      const double t = 0.05 * i;
+      estimator.add_imu(t, Eigen::Quaterniond::Identity());
+      estimator.add_fix(t, kLat, kLon, kAlt + 3 + 0.02 * std::sin(i), 0.5, 0.05);
+      estimator.add_pressure(t, scanbus::pressure_at_altitude(kAlt + 3 + 0.3 * std::sin(i * 0.7)));
+      estimator.add_match(t, Eigen::Vector2d(0.01 * std::cos(i * 0.3), 0));
+      for (const auto& pose : estimator.take_ready()) ready.push_back(pose);
+      for (const auto& pose : estimator.take_settled()) settled.push_back(pose);
+    }
+  };
+  fly(0, 200);  // 10 s
+  const FusionSettings fusion;
+  ASSERT_FALSE(settled.empty());
+  EXPECT_LE(settled.back().stamp, ready.back().stamp - fusion.window);  // only what left the window
+  for (const auto& pose : estimator.take_ready(true)) ready.push_back(pose);
+  for (const auto& pose : estimator.take_settled(true)) settled.push_back(pose);
+  ASSERT_EQ(settled.size(), ready.size());
+  fly(200, 300);  // the input goes on after a pause
+  for (const auto& pose : estimator.take_ready(true)) ready.push_back(pose);
+  for (const auto& pose : estimator.take_settled(true)) settled.push_back(pose);
+  ASSERT_EQ(settled.size(), ready.size());
+  for (size_t i = 0; i < settled.size(); ++i) {
+    EXPECT_DOUBLE_EQ(settled[i].stamp, ready[i].stamp);
+    EXPECT_EQ(settled[i].position.head<2>(), ready[i].position.head<2>());
+    EXPECT_TRUE(settled[i].orientation.isApprox(ready[i].orientation, 0));
+    EXPECT_GT(settled[i].position_sigma.z(), 0);
+    EXPECT_LT(settled[i].position_sigma.z(), 0.3);
+  }
+}
