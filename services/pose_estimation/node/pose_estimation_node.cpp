@@ -192,6 +192,7 @@ class PoseEstimation : public Service {
       settled_poses_.write(pose_message(pose));
       ++health_.counter("poses_settled");
     }
+    health_.counter("settled_as_first_solved") = estimator_.settled_as_first_solved();
   }
 
   geometry_msgs::msg::PoseWithCovarianceStamped pose_message(const EstimatedPose& pose) const {

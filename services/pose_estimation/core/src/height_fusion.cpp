@@ -67,11 +67,10 @@ double HeightFusion::add_node(double stamp, std::optional<double> change, const 
                           *change,
                           settings_.change_sigma,
                           settings_.change_loss / settings_.change_sigma});
-  } else if (!first) {
-    // No change used (a failed match, a blind laser, or ground both scans saw): the height
-    // wanders as a random walk between the nodes (whatever their rate), so it does not
-    // follow each barometer sample's noise, nor float where the robust loss discounts the
-    // cells a scan saw (a step's edge: a node settled 0.29 m off, with a sigma of 0.30 m).
+  } else if (!first && !change) {
+    // No change measured (a failed match, a blind laser): the height wanders as a random
+    // walk between the nodes (whatever their rate), so it does not follow each barometer
+    // sample's noise.
     const double dt = stamp - nodes_.back().first;
     residuals_.push_back(
         {{nodes_.back().second, height}, {-1, 1}, 0.0, std::max(settings_.height_walk * std::sqrt(dt), 1e-3)});

@@ -292,7 +292,7 @@ TEST(HeightFusion, EachHeightSettlesOnceCloserToTheTruthWithAnHonestSigma) {
   const double share = static_cast<double>(within_sigma) / static_cast<double>(scored);
   std::printf("settled errors within 1 sigma: %.1f %%\n", 100 * share);
   EXPECT_GT(share, 0.5);  // six correlated flights: a loose check, as above
-  EXPECT_LT(share, 0.95);
+  EXPECT_LT(share, 0.9);
 }
 
 TEST(HeightFusion, ReturnsThatCannotBePlacedAreLeftOut) {
@@ -324,14 +324,12 @@ TEST(HeightFusion, ASlopeUnderTheFlightIsNotTheMavSinking) {
       ++scored;
     }
   }
-  // The height's printed sigma should hold about two thirds of the errors (they are
-  // correlated over a flight: three flights are a loose check). It holds 91 %: the sigma is
-  // too wide here, by about 1.7 times (docs/performance.md); the bounds catch a sigma
-  // overconfident or more than twice too wide (95 % within 1 sigma).
+  // The height's printed sigma holds about two thirds of the errors (they are correlated
+  // over a flight: three flights are a loose check).
   const double share = static_cast<double>(within_sigma) / static_cast<double>(scored);
   std::printf("errors within 1 sigma: %.1f %%\n", 100 * share);
   EXPECT_GT(share, 0.5);
-  EXPECT_LT(share, 0.95);
+  EXPECT_LT(share, 0.9);
 }
 
 TEST(HeightFusion, GpsAltitudeCountsAsMuchAsItsFixSays) {

@@ -65,7 +65,7 @@ struct FusionSettings {
                                        // velocity jump of 1.5 m/s between scans at 30 Hz) is a
                                        // failed match, left out before it can pull the window into
                                        // a wrong minimum of the robust loss
-  double height_walk = 0.2;            // m/sqrt(s): the height's random walk between nodes whose change is not used
+  double height_walk = 0.2;            // m/sqrt(s): the height's random walk between nodes without a change
   double gate_memory = 0.5;            // s: after this long without an accepted change, any is accepted
   int solve_every = 3;                 // nodes between solves (the newest node is propagated in between)
   double cell_size = 1.0;              // m between the elevation map's corners

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <cstdint>
 #include <deque>
 #include <map>
 #include <memory>
@@ -71,8 +72,10 @@ class PoseEstimator {
   // stamps later), their height and its sigma solved with every sample of that window: a
   // fixed-lag smoother's output, what a ground model is built from (docs/architecture.md).
   // Oldest first, each once. With `all` (the input has ended; after take_ready(true)), every
-  // pose not settled yet. Callers take them, or they are kept.
+  // pose not settled yet. Callers take them, or they are kept. A height whose sigma the
+  // window widened more than twice keeps its first solve (counted).
   std::vector<EstimatedPose> take_settled(bool all = false);
+  uint64_t settled_as_first_solved() const { return settled_as_first_solved_; }
 
   // The altitude above the map origin that a pressure means.
   double barometric_height(double pascal) const;
@@ -95,7 +98,8 @@ class PoseEstimator {
   transforms::TransformSeries attitudes_{30.0}, positions_{30.0};
   Eigen::Vector3d position_sigma_ = Eigen::Vector3d::Zero();
   std::deque<Match> matches_;
-  std::map<double, EstimatedPose> unsettled_;             // by stamp, until take_settled
+  std::map<double, EstimatedPose> unsettled_;  // by stamp, until take_settled
+  uint64_t settled_as_first_solved_ = 0;
   std::map<double, std::vector<Eigen::Vector3d>> scans_;  // points in the laser's frame by stamp, until
                                                           // the match is estimated
   double newest_scan_ = -INFINITY;                        // none yet: matches do not wait for scans
