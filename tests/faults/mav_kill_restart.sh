@@ -71,7 +71,7 @@ grows "$work/matches.jsonl" 100 30 && grows "$work/poses.jsonl" 100 30 &&
 others_alive scan_matcher
 
 restart cloud_assembly
-sleep 3  # a second of scans, then its periodic publication
+sleep 3  # scans, which wait 3.5 s for their settled pose, then its periodic publication (retried below)
 # Up to 30 s: under the sanitizers and a loaded CI machine 10 s was once too short.
 if "$scanbus" echo rt/cloud/assembled -n 1 --timeout 30 > /dev/null 2>&1; then
   echo "ok   a late subscriber got an assembled cloud from the restarted cloud_assembly"

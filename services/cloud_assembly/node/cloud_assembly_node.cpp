@@ -187,7 +187,7 @@ class CloudAssembly : public Service {
       if (continuous.size() == published_size_) return;
       published_size_ = continuous.size();
       points = continuous.points();
-      stamp = assembler_.newest_stamp();
+      stamp = assembler_.newest_assembled();  // scans wait for their settled pose: the newest in it
       health_.counter("voxels") = continuous.size();
       health_.counter("voxels_dropped") = continuous.dropped();
     }

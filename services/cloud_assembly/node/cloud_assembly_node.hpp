@@ -5,7 +5,7 @@
 namespace scanbus::cloud_assembly {
 
 // Config section `cloud_assembly` (config/services/cloud_assembly.yaml lists every key):
-// rt/scan, rt/tf and rt/tf_static in; the accumulated, height-coloured ground cloud on
+// rt/scan, rt/pose/settled (or rt/tf: settled_poses), rt/tf_static in; the accumulated, height-coloured ground cloud on
 // rt/cloud/assembled, and the cloud of any time window on request (rt/cloud/assemble_*).
 std::unique_ptr<Service> make_cloud_assembly(ServiceContext& context);
 

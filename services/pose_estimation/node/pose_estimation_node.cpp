@@ -79,6 +79,13 @@ class PoseEstimation : public Service {
     pressures_.reset();
     fixes_.reset();
     imu_.reset();
+    {
+      // Stopped: the poses still waiting and those still in the window go out now, or the
+      // cloud would lose the flight's last seconds.
+      std::lock_guard<std::mutex> lock(mutex_);
+      publish_ready(true);
+    }
+    settled_poses_.wait_for_acknowledgments(std::chrono::seconds(2));
     return 0;
   }
 

@@ -37,6 +37,7 @@ AssemblyReport Assembler::assemble_ready(double now) {
       continuous_.add(points);
       std::vector<Eigen::Vector3f> window_points(points.size());
       for (size_t i = 0; i < points.size(); ++i) window_points[i] = points[i].cast<float>();
+      newest_assembled_ = std::max(newest_assembled_, next.scan.stamp);
       window_.add(next.scan.stamp, std::move(window_points));
       ++report.assembled;
     } else if (newest_ - next.scan.stamp > settings_.transform_timeout) {
@@ -63,7 +64,7 @@ void Assembler::say_if_frames_missing(const std::string& frame, const std::strin
   if (now - *missing_since_ < 1.0 || missing_said_) return;
   missing_said_ = report.frames_missing = true;
   report.problems.push_back("scans waiting: " + why + "; no transform has joined '" + frame + "' to '" +
-                            settings_.fixed_frame + "' yet (rt/tf_static, rt/tf)");
+                            settings_.fixed_frame + "' yet (rt/tf_static, rt/pose/settled or rt/tf)");
 }
 
 WindowReply Assembler::window(double begin, double end, const std::string& frame) const {

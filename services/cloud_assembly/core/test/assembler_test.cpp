@@ -28,6 +28,7 @@ TEST(Assembler, AScanWaitsForItsTransformThenJoinsTheCloudAndTheWindow) {
   assembler.add_static("base_link", "laser", up(-0.1));
   AssemblyReport report = assembler.add_scan("laser", scan_at(10.0), 0);
   EXPECT_EQ(report.assembled, 0u) << "no map -> base_link at 10 s yet";
+  EXPECT_DOUBLE_EQ(assembler.newest_assembled(), 0.0);
   assembler.add_transform("map", "base_link", 9.9, up(2.0));
   assembler.add_transform("map", "base_link", 10.1, up(2.2));
   report = assembler.assemble_ready(0);
@@ -39,6 +40,7 @@ TEST(Assembler, AScanWaitsForItsTransformThenJoinsTheCloudAndTheWindow) {
   for (const auto& p : window.points) EXPECT_NEAR(p.z(), 2.1 - 0.1, 1e-5) << "the transform at 10 s, interpolated";
   EXPECT_EQ(assembler.continuous().size(), 3u);
   EXPECT_DOUBLE_EQ(assembler.newest_stamp(), 10.1);
+  EXPECT_DOUBLE_EQ(assembler.newest_assembled(), 10.0);  // the cloud's stamp: the scan's, not the transform's
 }
 
 TEST(Assembler, AScanStillWithoutItsTransformAfterTheTimeoutIsDroppedWithTheReason) {

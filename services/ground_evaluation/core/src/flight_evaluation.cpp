@@ -166,15 +166,17 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
       const double heights[kHeightSources] = {baro, *integrated, pose.position.z(),
                                               log.fixes.empty() ? NAN : gps.at(pose.stamp)};
       const double true_height = truth.at(pose.stamp);
-      const auto solved = immediate.find(pose.stamp);
+      const auto solved = immediate.find(pose.stamp);  // every pose is taken ready before it settles
+      const auto [first, first_sigma] =
+          solved == immediate.end() ? std::pair<double, double>{NAN, NAN} : solved->second;
+      if (solved != immediate.end()) immediate.erase(immediate.begin(), std::next(solved));
       result.heights.push_back({pose.stamp,
                                 true_height,
                                 {heights[0], heights[1], heights[2], heights[3]},
                                 pose.clearance.value_or(NAN),
                                 pose.position_sigma.z(),
-                                solved->second.first,
-                                solved->second.second});
-      immediate.erase(immediate.begin(), std::next(solved));
+                                first,
+                                first_sigma});
       const auto points = cloud_assembly::scan_points(log.lasers[found->second], settings.gating);
       const auto place = [&](double height, std::vector<Eigen::Vector3f>& cloud) {
         Eigen::Isometry3d body = Eigen::Isometry3d::Identity();

@@ -281,6 +281,7 @@ std::vector<double> HeightFusion::marginal_sigmas(const std::vector<long>& state
   Eigen::VectorXd g;
   normal_equations(residuals_, order, H, g);
   const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(H);
+  if (solver.info() != Eigen::Success) return std::vector<double>(states.size(), INFINITY);  // not known
   std::vector<double> sigmas;
   for (long state : states) {
     const long index = std::lower_bound(order.begin(), order.end(), state) - order.begin();
@@ -297,7 +298,7 @@ void HeightFusion::settle(double stamp, long height, double sigma) {
 }
 
 std::vector<SettledHeight> HeightFusion::take_settled(bool all) {
-  if (all && !nodes_.empty()) {
+  if (all && !nodes_.empty() && nodes_.back().first > settled_through_) {
     solve();
     since_solve_ = 0;
     std::vector<long> window;

@@ -60,7 +60,8 @@ class Assembler {
   WindowReply window(double begin, double end, const std::string& frame) const;
 
   const ContinuousCloud& continuous() const { return continuous_; }
-  double newest_stamp() const { return newest_; }  // of a scan or a transform
+  double newest_stamp() const { return newest_; }                // of a scan or a transform
+  double newest_assembled() const { return newest_assembled_; }  // of a scan in the cloud (0: none yet)
   const std::string& fixed_frame() const { return settings_.fixed_frame; }
 
  private:
@@ -76,6 +77,7 @@ class Assembler {
   ScanWindow window_;
   std::deque<PendingScan> pending_;
   double newest_ = 0;
+  double newest_assembled_ = 0;
   std::optional<double> missing_since_;  // the first scan waiting for frames no transform joins
   bool missing_said_ = false;
 };
