@@ -143,6 +143,7 @@ struct EvalMavOptions {
   std::string out;  // a folder for each flight's clouds (PCD), their top views (PNG) and the fused elevation GeoTIFF
   bool json = false;
   bool no_ground = false;
+  bool first_solved = false;
   std::string config;  // a pose_estimation service config whose fusion settings to evaluate
 };
 
@@ -224,6 +225,7 @@ int run_eval_mav(EvalMavOptions options) {
     try {
       ground_evaluation::FlightEvaluationSettings settings = base;
       settings.ground_clearance = settings.ground_clearance && !options.no_ground;
+      settings.settled_heights = !options.first_solved;
       settings.true_ground = mav_sim::scored_ground_of_log(log);
       evaluations.push_back(ground_evaluation::evaluate_flight(log, settings, [&](size_t done, size_t total) {
         if (progress)
@@ -389,6 +391,9 @@ void add_eval_command(CLI::App& app, int& exit_code) {
   flights->add_flag(
       "--no-ground", mav.no_ground,
       "Fuse the barometer, GPS altitude and the scan matcher's changes only, without the ground the scans see");
+  flights->add_flag("--first-solved", mav.first_solved,
+                    "Place the scans by the fused heights as first solved (rt/pose), not as they left the fusion's "
+                    "window (rt/pose/settled, what cloud_assembly uses): the two side by side");
   on_run(*flights, exit_code, [] { return run_eval_mav(mav); });
 
   static EvalBoxesOptions boxes;

@@ -154,9 +154,9 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
   std::map<double, std::pair<double, double>> immediate;  // stamp: the fused height and sigma as first solved
   const auto take_poses = [&](bool all) {
     const auto started = std::chrono::steady_clock::now();
-    for (const auto& pose : estimator.take_ready(all))
-      immediate[pose.stamp] = {pose.position.z(), pose.position_sigma.z()};
-    const auto poses = estimator.take_settled(all);  // the cloud is built from these
+    const auto ready = estimator.take_ready(all);
+    for (const auto& pose : ready) immediate[pose.stamp] = {pose.position.z(), pose.position_sigma.z()};
+    const auto poses = settings.settled_heights ? estimator.take_settled(all) : ready;  // the cloud's
     fusion_time += std::chrono::steady_clock::now() - started;
     for (const auto& pose : poses) {
       const auto found = scan_at.find(pose.stamp);

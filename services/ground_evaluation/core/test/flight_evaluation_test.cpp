@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <tuple>
 #include <vector>
 
@@ -66,6 +67,29 @@ TEST(FlightEvaluation, AShortFlightGivesAPosePerScanAndTheFusionBeatsTheBaromete
             0.5 * result.height_rmse[static_cast<int>(HeightSource::Barometer)]);
   EXPECT_FALSE(result.has_boxes);
   EXPECT_GT(result.cloud[0].size(), 600u * 300);  // most of each scan's 361 rays hit the ground
+}
+
+TEST(FlightEvaluation, TheCloudIsPlacedByTheSettledHeightsOrTheFirstSolvedOnes) {
+  mav_sim::FlightSettings flight;
+  flight.duration = 20;
+  const auto log = mav_sim::simulate_flight(flight);
+  FlightEvaluationSettings settings;
+  for (const bool settled : {true, false}) {
+    settings.settled_heights = settled;
+    const FlightEvaluation result = evaluate_flight(log, settings);
+    ASSERT_EQ(result.heights.size(), 600u);  // every pose, settled or not
+    size_t same = 0;
+    for (const auto& h : result.heights) same += h.height[static_cast<int>(HeightSource::Fused)] == h.immediate;
+    std::printf("%s: %zu of 600 fused heights equal to the first solve; RMSE %.4f m, first solved %.4f m\n",
+                settled ? "settled" : "first solved", same, result.height_rmse[static_cast<int>(HeightSource::Fused)],
+                result.immediate_rmse);
+    if (settled) {
+      EXPECT_LT(same, 60u);  // solved again with the 3 s after them
+    } else {
+      EXPECT_EQ(same, 600u);
+      EXPECT_DOUBLE_EQ(result.height_rmse[static_cast<int>(HeightSource::Fused)], result.immediate_rmse);
+    }
+  }
 }
 
 TEST(GroundModelError, ScoresWhereTheGroundIsKnown) {

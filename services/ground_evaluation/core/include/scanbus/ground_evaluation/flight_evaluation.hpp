@@ -35,6 +35,7 @@ struct FlightEvaluationSettings {
   scan_matcher::MatcherSettings matcher = mav_matcher_settings();
   pose_estimation::FusionSettings fusion;
   bool ground_clearance = true;                 // false: the fusion of barometer and scan matcher alone
+  bool settled_heights = true;                  // the fused height as it settled; false: as first solved
   sensor::RangeGate gating{0, 30.0, M_PI / 2};  // the paper: 30 m, 90 degrees
   BoxSearchSettings boxes;
   cloud_assembly::ElevationGridSettings elevation;  // the fused cloud's elevation grid
