@@ -266,7 +266,7 @@ TEST(HeightFusion, GroundSeenAgainHoldsTheHeightOverABlock) {
   }
 }
 
-TEST(HeightFusion, EachHeightSettlesOnceCloserToTheTruthWithAnHonestSigma) {
+TEST(HeightFusion, EachHeightSettlesOnceCloserToTheTruth) {
   // Over the block and over the slope, where later scans see the same ground again.
   size_t within_sigma = 0, scored = 0;
   for (const bool over_block : {false, true}) {
@@ -291,7 +291,9 @@ TEST(HeightFusion, EachHeightSettlesOnceCloserToTheTruthWithAnHonestSigma) {
   }
   const double share = static_cast<double>(within_sigma) / static_cast<double>(scored);
   std::printf("settled errors within 1 sigma: %.1f %%\n", 100 * share);
-  EXPECT_GT(share, 0.5);  // six correlated flights: a loose check, as above
+  // Six correlated flights: a loose check, as above. It holds 89 %: the sigma is too wide
+  // here (docs/performance.md: so it is over the simulated terrains).
+  EXPECT_GT(share, 0.5);
   EXPECT_LT(share, 0.9);
 }
 
