@@ -123,6 +123,17 @@ TEST(GroundWorld, EdgesAreNotScored) {
   EXPECT_NEAR(*world.scored_height({8.2, 3}, 0.1), 0.2, 1e-9);
 }
 
+// A block across a step down stands on both levels: its top is its height above the ground at
+// its centre, and a ray aimed under its low end hits its side, not the ground beneath it.
+TEST(GroundWorld, ABoxReachesDownToTheLowestGroundUnderIt) {
+  Terrain terrain;
+  terrain.steps = {{{5, 0}, 0, -0.3, 0.02}};  // the ground 0.3 m lower beyond x = 5
+  const GroundWorld world({{{4, 0}, 0, {4, 1, 1.0}}}, terrain);
+  EXPECT_NEAR(world.height_at({3, 0}), 1.0, 1e-9);
+  EXPECT_NEAR(world.height_at({5.5, 0}), 1.0, 1e-9);                             // the same top over the lower ground
+  EXPECT_NEAR(world.cast({8, 0, -0.15}, -Eigen::Vector3d::UnitX()), 2.0, 1e-9);  // its side at x = 6
+}
+
 // A simulated log carries its ground (META scenario, boxes, terrain_*): the same world comes
 // back from the text file, and a log that does not say has none.
 TEST(Flight, TheLogCarriesItsTrueGround) {

@@ -15,13 +15,16 @@ struct Box {
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();
   double yaw = 0;                                  // rad, about z
   Eigen::Vector3d size = Eigen::Vector3d::Ones();  // length (along its x), width, height; m
-  double base = 0;                                 // m: its footprint's height (GroundWorld sets it)
+  double base = 0;                                 // m: the ground's height at its centre (GroundWorld sets it)
+  double bottom = 0;  // m: the lowest ground under its footprint, where its sides reach down to (GroundWorld sets it)
 };
 
 class GroundWorld {
  public:
-  // Each box stands on the terrain at its centre: on a slope its uphill edge is buried and its
-  // downhill edge stands off the ground by the slope times half its length (1.6 cm for 0.6 m on 3 degrees).
+  // Each box's top lies its height above the terrain at its centre, and its sides reach down to
+  // the lowest ground under its footprint: on a slope or across a step its uphill part is buried
+  // and no ray passes under its downhill edge (scenario III's 8 m block on a 5 % slope would
+  // otherwise stand 0.2 m off the ground at one end, and the ground seen under it be scored as its top).
   explicit GroundWorld(std::vector<Box> boxes = {}, Terrain terrain = {});
 
   // Distance along the unit `direction` from `origin` to the first surface, or +inf.
