@@ -21,6 +21,7 @@ bool Terrain::flat() const { return slope.isZero() && mounds.empty() && steps.em
 // ray meets it once, and with a bounded gradient; their amplitude sets the RMS.
 TerrainSurface::TerrainSurface(Terrain terrain) : terrain_(std::move(terrain)) {
   constexpr int kWaves = 8;
+  origin_relief_ = relief(Eigen::Vector2d::Zero());
   max_gradient_ = terrain_.slope.norm();
   for (const Mound& m : terrain_.mounds) max_gradient_ += std::abs(m.height) * M_PI / (2 * m.radius);
   for (const Step& s : terrain_.steps) max_gradient_ += std::abs(s.height) / s.width;
@@ -37,13 +38,18 @@ TerrainSurface::TerrainSurface(Terrain terrain) : terrain_(std::move(terrain)) {
   }
 }
 
-double TerrainSurface::height_at(const Eigen::Vector2d& xy) const {
+double TerrainSurface::relief(const Eigen::Vector2d& xy) const {
   double z = terrain_.slope.dot(xy);
   for (const Mound& m : terrain_.mounds) {
     const double d = (xy - m.centre).norm();
     if (d < m.radius) z += m.height * (1 + std::cos(M_PI * d / m.radius)) / 2;
   }
   for (const Step& s : terrain_.steps) z += s.height * ramp(s.across(xy), s.width);
+  return z;
+}
+
+double TerrainSurface::height_at(const Eigen::Vector2d& xy) const {
+  double z = relief(xy) - origin_relief_;
   for (const Wave& w : waves_) z += w.amplitude * std::sin(w.k.dot(xy) + w.phase);
   return z;
 }

@@ -40,6 +40,20 @@ TEST(Terrain, FeaturesAddUp) {
   EXPECT_FALSE(terrain.flat());
 }
 
+// A step whose high side covers the origin, and a mound over it: the ground at the origin,
+// where the flight starts, stays at z = 0 and the rest keeps its shape around it.
+TEST(Terrain, TheOriginIsOnTheGround) {
+  Terrain terrain;
+  terrain.steps = {{{2.6, 0}, M_PI, 0.15, 0.05}};  // the ground 0.15 m higher west of x = 2.6
+  terrain.mounds = {{{0, 0}, 1, 0.2}};
+  const TerrainSurface surface(terrain);
+  EXPECT_NEAR(surface.height_at({0, 0}), 0, 1e-12);
+  EXPECT_NEAR(surface.height_at({2, 0}), -0.2, 1e-12);
+  EXPECT_NEAR(surface.height_at({3, 0}), -0.35, 1e-12);
+  terrain.roughness = 0.02;  // the rough ground the origin was taken on stays
+  EXPECT_GT(std::abs(TerrainSurface(terrain).height_at({0, 0})), 1e-6);
+}
+
 TEST(Terrain, RoughGroundHasTheRmsAskedFor) {
   Terrain terrain;
   terrain.roughness = 0.03;

@@ -48,6 +48,9 @@ struct Terrain {
 };
 
 // The terrain's surface, ready to be sampled and hit by rays (its rough ground drawn once).
+// The map origin is on the ground where the flight starts (a MAV log's META origin says so):
+// the features are lowered or raised together so that, without the rough ground, they pass
+// through z = 0 there, also when a step's high side or a mound covers the origin.
 class TerrainSurface {
  public:
   explicit TerrainSurface(Terrain terrain = {});
@@ -64,8 +67,11 @@ class TerrainSurface {
     double phase = 0, amplitude = 0;
   };
   Terrain terrain_;
+  double relief(const Eigen::Vector2d& xy) const;  // slope, mounds and steps as the file gives them
+
   std::vector<Wave> waves_;
-  double max_gradient_ = 0;  // an upper bound of |gradient|: how far a ray may step without passing through
+  double origin_relief_ = 0;  // m, relief() at the origin: taken off every height
+  double max_gradient_ = 0;   // an upper bound of |gradient|: how far a ray may step without passing through
 };
 
 // What is wrong with a terrain, if anything: slopes up to 45 degrees, mound radii 0.05-1000 m,
