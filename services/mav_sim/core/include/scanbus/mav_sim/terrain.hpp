@@ -62,13 +62,13 @@ class TerrainSurface {
   const Terrain& terrain() const { return terrain_; }
 
  private:
+  double relief(const Eigen::Vector2d& xy) const;  // slope, mounds and steps as the file gives them
+
   struct Wave {
     Eigen::Vector2d k;  // rad/m
     double phase = 0, amplitude = 0;
   };
   Terrain terrain_;
-  double relief(const Eigen::Vector2d& xy) const;  // slope, mounds and steps as the file gives them
-
   std::vector<Wave> waves_;
   double origin_relief_ = 0;  // m, relief() at the origin: taken off every height
   double max_gradient_ = 0;   // an upper bound of |gradient|: how far a ray may step without passing through
