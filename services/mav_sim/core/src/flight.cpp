@@ -237,6 +237,8 @@ std::optional<GroundWorld> world_of_log(const sensor_replay::MavLog& log) {
   if (settings.scenario == 4) {
     const auto& box = log.meta_of("boxes", 3);
     settings.box_size = {box[0], box[1], box[2]};
+    if (!(settings.box_size.minCoeff() > 0 && settings.box_size.maxCoeff() < 5))  // also NaN
+      throw sensor_replay::MavLogError("META boxes must be three sizes above 0 and under 5 m");
   }
   settings.terrain = read_terrain(log);
   return scenario_world(settings);

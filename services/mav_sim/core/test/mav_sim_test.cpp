@@ -173,6 +173,11 @@ TEST(Flight, TheLogCarriesItsTrueGround) {
   auto broken = log;
   broken.meta["terrain_mounds"].pop_back();
   EXPECT_THROW(world_of_log(broken), sensor_replay::MavLogError);
+  for (const double size : {1e6, 0.0, double(NAN)}) {  // a box the world could not be built around
+    auto huge = log;
+    huge.meta["boxes"] = {size, 0.4, 0.3};
+    EXPECT_THROW(world_of_log(huge), sensor_replay::MavLogError) << size;
+  }
 }
 
 TEST(Terrain, FromYaml) {
