@@ -178,22 +178,23 @@ std::vector<EstimatedPose> PoseEstimator::take_ready(bool all) {
   return poses;
 }
 
+std::optional<EstimatedPose> settled_pose(const EstimatedPose& first_solved, const SettledHeight& settled) {
+  constexpr double kWidened = 2;
+  if (!(settled.sigma <= kWidened * first_solved.position_sigma.z())) return std::nullopt;  // also NaN
+  EstimatedPose pose = first_solved;
+  pose.position.z() = settled.height;
+  pose.position_sigma.z() = settled.sigma;
+  return pose;
+}
+
 std::vector<EstimatedPose> PoseEstimator::take_settled(bool all) {
   std::vector<EstimatedPose> poses;
   for (const SettledHeight& node : fusion_.take_settled(all)) {
     const auto found = unsettled_.find(node.stamp);
     if (found == unsettled_.end()) continue;
-    EstimatedPose& pose = poses.emplace_back(found->second);
-    // Solving with more samples never widens a least-squares height's sigma; the robust
-    // losses do, when they came to discount the node's own cells (a step's edge), and its
-    // height then floats (0.29 m off, sigma 0.30 m, on the steps): the first solve stands.
-    constexpr double kWidened = 2;
-    if (node.sigma > kWidened * pose.position_sigma.z()) {
-      ++settled_as_first_solved_;
-    } else {
-      pose.position.z() = node.height;
-      pose.position_sigma.z() = node.sigma;
-    }
+    const std::optional<EstimatedPose> pose = settled_pose(found->second, node);
+    poses.push_back(pose.value_or(found->second));
+    settled_as_first_solved_ += !pose;
     unsettled_.erase(unsettled_.begin(), std::next(found));
   }
   return poses;

@@ -443,6 +443,21 @@ TEST(PoseEstimator, HeightsDoNotDependOnTheOrderSamplesArrive) {
   }
 }
 
+// The settled height replaces the first solve unless the window widened its sigma more than
+// twice (the robust losses discounting the node's own cells), or the sigma is unknown.
+TEST(PoseEstimator, AWidenedSettledSigmaKeepsTheFirstSolve) {
+  EstimatedPose first;
+  first.position = {1, 2, 3.0};
+  first.position_sigma = {0.01, 0.01, 0.02};
+  const auto narrower = settled_pose(first, {0, 3.01, 0.015});
+  ASSERT_TRUE(narrower.has_value());
+  EXPECT_EQ(narrower->position, Eigen::Vector3d(1, 2, 3.01));
+  EXPECT_EQ(narrower->position_sigma, Eigen::Vector3d(0.01, 0.01, 0.015));
+  EXPECT_TRUE(settled_pose(first, {0, 3.05, 0.04}).has_value());  // twice: still settled
+  EXPECT_FALSE(settled_pose(first, {0, 3.29, 0.30}).has_value());
+  EXPECT_FALSE(settled_pose(first, {0, 3.0, NAN}).has_value());
+}
+
 // Each pose settles once, in order, where it was placed but for its height and that
 // height's sigma; the input's end settles those still in the window, and a later input
 // does not settle them again.
