@@ -50,7 +50,8 @@ for seed in range(first, last + 1):
         if e and (grid is None or e["rmse"] > grid): grid = e["rmse"]
         g = flight.get("ground_error_m", {}).get("fused")
         if g and g.get("slope_error") is not None:  # the true ground tilts 1 % or more
-            tilts.append((g["slope_error"], flight["ground_error_m"]["true_height"]["slope_error"]))
+            truth = flight["ground_error_m"].get("true_height", {}).get("slope_error")
+            tilts.append((g["slope_error"], truth if truth is not None else float("nan")))
         if g and (worst is None or g["rmse"] > worst["rmse"]):
             worst, floor = g, flight["ground_error_m"].get("true_height")
         rmse = flight["height_rmse_m"]
@@ -64,7 +65,8 @@ for seed in range(first, last + 1):
             below_gps += rmse["fused"] < rmse["gps"]
             solved_below_gps += rmse["fused_immediate"] < rmse["gps"]
         gains.append(rmse["fused_immediate"] - rmse["fused"])
-        within.append(dict(flight["fused_within_sigma"], poses=flight["poses"]))
+        if None not in flight["fused_within_sigma"].values():  # null: no fused sigma in the flight
+            within.append(dict(flight["fused_within_sigma"], poses=flight["poses"]))
         solved_within.append(flight["fused_immediate_within_sigma"]["1"])
     boxes = flights[-1].get("boxes", {})
     p = {k: (v["performance_percent"] if v["ok"] else 0.0) for k, v in boxes.items()}
@@ -89,7 +91,7 @@ one = [w["1"] for w in within]
 two = [w["2"] for w in within]
 # Pooled over every pose of every flight: what "calibrated" asks (a flight's error is mostly one
 # offset for the whole flight, so a single flight's share is near 0 or 100 %).
-poses = sum(w["poses"] for w in within)
+poses = max(sum(w["poses"] for w in within), 1)
 pooled = [sum(w[k] * w["poses"] for w in within) / poses for k in ("1", "2")]
 print(f"fused height within 1 / 2 sigma, pooled over all poses: {pooled[0]:.1%} / {pooled[1]:.1%} "
       f"(a calibrated sigma: 68.3 / 95.4 %); by flight, 1 sigma median {statistics.median(one):.0%} "

@@ -93,11 +93,14 @@ void check(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument(what);
 }
 
+// Each side above 0 and under 5 m (NaN fails: minCoeff and maxCoeff may skip it).
+bool box_size_ok(const Eigen::Vector3d& size) { return ((size.array() > 0) && (size.array() < 5)).all(); }
+
 void validate(const FlightSettings& s) {
   check(s.scenario >= 1 && s.scenario <= 4, "scenario must be 1 to 4 (I to IV)");
   check(s.duration > 0 && s.duration <= 3600, "duration must be in (0, 3600] s");
   check(s.height >= 0.5 && s.height <= 25, "height must be 0.5 to 25 m");
-  check(s.box_size.minCoeff() > 0 && s.box_size.maxCoeff() < 5, "box size must be positive and under 5 m");
+  check(box_size_ok(s.box_size), "box size must be positive and under 5 m");
   check(s.laser.rate > 0 && s.noise.imu_rate > 0 && s.noise.gps_rate > 0 && s.noise.baro_rate > 0,
         "sensor rates must be positive");
   check(s.noise.gps_velocity_time > 0 && s.noise.gps_wander_time > 0, "GPS correlation times must be positive");
@@ -237,7 +240,7 @@ std::optional<GroundWorld> world_of_log(const sensor_replay::MavLog& log) {
   if (settings.scenario == 4) {
     const auto& box = log.meta_of("boxes", 3);
     settings.box_size = {box[0], box[1], box[2]};
-    if (!(settings.box_size.minCoeff() > 0 && settings.box_size.maxCoeff() < 5))  // also NaN
+    if (!box_size_ok(settings.box_size))
       throw sensor_replay::MavLogError("META boxes must be three sizes above 0 and under 5 m");
   }
   settings.terrain = read_terrain(log);

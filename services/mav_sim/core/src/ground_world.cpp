@@ -1,7 +1,9 @@
 #include "scanbus/mav_sim/ground_world.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace scanbus::mav_sim {
 
@@ -31,13 +33,14 @@ double cast_box(const Box& box, const Eigen::Vector3d& origin, const Eigen::Vect
   return near > 0 ? near : kNone;
 }
 
-// Sampled every 2 cm or closer: the roughness's few centimetres over tens of centimetres of
-// wavelength dip by well under a millimetre between samples.
+// Sampled every 2 cm (coarser over boxes beyond 40 m): ground that dips between two samples
+// leaves a gap that deep under the box's edge, a millimetre or two on the rough ground of
+// config/terrain; never above the ground at the centre.
 double lowest_ground_under(const Box& box, const TerrainSurface& terrain) {
   const Eigen::Rotation2Dd to_map(box.yaw);
-  const int nx = static_cast<int>(std::ceil(box.size.x() / 0.02)),
-            ny = static_cast<int>(std::ceil(box.size.y() / 0.02));
-  double lowest = kNone;
+  const auto samples = [](double size) { return static_cast<int>(std::clamp(std::ceil(size / 0.02), 1.0, 2000.0)); };
+  const int nx = samples(box.size.x()), ny = samples(box.size.y());
+  double lowest = box.base;
   for (int i = 0; i <= nx; ++i) {
     for (int j = 0; j <= ny; ++j) {
       const Eigen::Vector2d local(box.size.x() * (double(i) / nx - 0.5), box.size.y() * (double(j) / ny - 0.5));
@@ -52,6 +55,8 @@ double lowest_ground_under(const Box& box, const TerrainSurface& terrain) {
 GroundWorld::GroundWorld(std::vector<Box> boxes, Terrain terrain)
     : boxes_(std::move(boxes)), terrain_(std::move(terrain)) {
   for (Box& box : boxes_) {
+    if (!((box.size.array() > 0) && box.size.array().isFinite()).all())
+      throw std::invalid_argument("a box's sizes must be positive and finite");
     box.base = terrain_.height_at(box.centre);
     box.bottom = lowest_ground_under(box, terrain_);
   }

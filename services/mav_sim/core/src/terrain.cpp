@@ -79,6 +79,10 @@ std::optional<TerrainProblem> terrain_problem(const Terrain& t) {
   auto outside = [](double v, double low, double high) { return !(v >= low && v <= high); };
   if (!t.slope.allFinite() || t.slope.norm() > 1)
     return TerrainProblem{"slope", "is steeper than 45 degrees: not ground a MAV maps"};
+  // Every ray and every box's footprint samples every feature: a bound keeps them cheap.
+  constexpr size_t kMaxFeatures = 100;
+  if (t.mounds.size() > kMaxFeatures) return TerrainProblem{"mounds", "are more than 100"};
+  if (t.steps.size() > kMaxFeatures) return TerrainProblem{"steps", "are more than 100"};
   for (size_t i = 0; i < t.mounds.size(); ++i) {
     const std::string name = "mounds[" + std::to_string(i) + "]";
     if (!t.mounds[i].centre.allFinite() || t.mounds[i].centre.norm() > 1e5)

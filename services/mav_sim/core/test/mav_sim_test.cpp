@@ -146,6 +146,15 @@ TEST(GroundWorld, ABoxReachesDownToTheLowestGroundUnderIt) {
   EXPECT_NEAR(world.height_at({3, 0}), 1.0, 1e-9);
   EXPECT_NEAR(world.height_at({5.5, 0}), 1.0, 1e-9);                             // the same top over the lower ground
   EXPECT_NEAR(world.cast({8, 0, -0.15}, -Eigen::Vector3d::UnitX()), 2.0, 1e-9);  // its side at x = 6
+  // A 2 x 0.2 m box turned by 30 degrees on a slope rising towards (1, 1): its lowest corner,
+  // local (-1, -0.1), lies 1.366 + 0.037 m down the slope's axis (turned by -30 degrees it
+  // would be 0.366 + 0.137 m).
+  Terrain slope;
+  slope.slope = {0.1, 0.1};
+  const GroundWorld turned({{{0, 0}, M_PI / 6, {2, 0.2, 1.0}}}, slope);
+  const double c = std::cos(M_PI / 6), s = std::sin(M_PI / 6);
+  EXPECT_NEAR(turned.boxes()[0].bottom, -0.1 * ((c + s) + 0.1 * (c - s)), 1e-9);
+  EXPECT_THROW(GroundWorld({{{0, 0}, 0, {0, 0.2, 1.0}}}, slope), std::invalid_argument);
 }
 
 // A simulated log carries its ground (META scenario, boxes, terrain_*): the same world comes
@@ -174,9 +183,12 @@ TEST(Flight, TheLogCarriesItsTrueGround) {
   broken.meta["terrain_mounds"].pop_back();
   EXPECT_THROW(world_of_log(broken), sensor_replay::MavLogError);
   for (const double size : {1e6, 0.0, double(NAN)}) {  // a box the world could not be built around
-    auto huge = log;
-    huge.meta["boxes"] = {size, 0.4, 0.3};
-    EXPECT_THROW(world_of_log(huge), sensor_replay::MavLogError) << size;
+    for (int side = 0; side < 3; ++side) {
+      auto bad = log;
+      bad.meta["boxes"] = {0.6, 0.4, 0.3};
+      bad.meta["boxes"][side] = size;
+      EXPECT_THROW(world_of_log(bad), sensor_replay::MavLogError) << size << " as side " << side;
+    }
   }
 }
 
@@ -210,6 +222,10 @@ TEST(Terrain, FromYaml) {
   EXPECT_NE(refused("terrain: {slope: [2, 0]}").find("slope"), std::string::npos);
   EXPECT_NE(refused("terrain: {mounds: [{centre: [0, 0], radius: 0, height: 1}]}").find("radius"), std::string::npos);
   EXPECT_NE(refused("terrain: {roughnes: 0.02}").find("roughnes"), std::string::npos);
+  std::string many = "terrain: {steps: [";
+  for (int i = 0; i < 101; ++i)
+    many += std::string(i ? ", " : "") + "{at: [0, 0], direction: 0, height: 0.1, width: 0.1}";
+  EXPECT_NE(refused(many + "]}").find("more than 100"), std::string::npos);
 }
 
 TEST(Flight, ScenarioOneGoesTenMetresAndBack) {

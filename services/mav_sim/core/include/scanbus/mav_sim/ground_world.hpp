@@ -25,6 +25,7 @@ class GroundWorld {
   // the lowest ground under its footprint: on a slope or across a step its uphill part is buried
   // and no ray passes under its downhill edge (scenario III's 8 m block on a 5 % slope would
   // otherwise stand 0.2 m off the ground at one end, and the ground seen under it be scored as its top).
+  // Throws std::invalid_argument for a box whose sizes are not positive and finite.
   explicit GroundWorld(std::vector<Box> boxes = {}, Terrain terrain = {});
 
   // Distance along the unit `direction` from `origin` to the first surface, or +inf.

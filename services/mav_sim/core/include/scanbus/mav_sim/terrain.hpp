@@ -74,7 +74,8 @@ class TerrainSurface {
   double max_gradient_ = 0;   // an upper bound of |gradient|: how far a ray may step without passing through
 };
 
-// What is wrong with a terrain, if anything: slopes up to 45 degrees, mound radii 0.05-1000 m,
+// What is wrong with a terrain, if anything: slopes up to 45 degrees, at most 100 mounds and 100
+// steps, mound radii 0.05-1000 m,
 // heights within 100 m, step ramps 1 mm-100 m wide, roughness up to 1 m RMS, wavelengths
 // 0.05-100 m. `key` names the feature as the YAML file does ("mounds[1].radius").
 struct TerrainProblem {
