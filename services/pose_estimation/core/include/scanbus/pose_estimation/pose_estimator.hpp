@@ -49,10 +49,10 @@ struct EstimatedPose {
 };
 
 // A pose as it settled: `first_solved` with `settled`'s height and sigma, unless the window
-// widened the sigma more than twice or it is unknown (then none: the first solve stands). Solving with more
-// samples never widens a least-squares height's sigma; the robust losses do, when they came
-// to discount the node's own cells (a step's edge), and its height then floats (0.29 m off,
-// sigma 0.30 m, on the steps).
+// widened the sigma more than twice or it is unknown (then none: the first solve stands).
+// Solving with more samples never widens a least-squares height's sigma; the robust losses
+// do, when they came to discount the node's own cells (a step's edge), and its height then
+// floats (0.29 m off, sigma 0.30 m, on the steps).
 std::optional<EstimatedPose> settled_pose(const EstimatedPose& first_solved, const SettledHeight& settled);
 
 class PoseEstimator {
