@@ -39,6 +39,7 @@ void add_room_command(CLI::App& app, int& exit_code);
 void add_scanmatch_command(CLI::App& app, int& exit_code);
 void add_mav_sim_command(CLI::App& sim, int& exit_code);  // `sim mav`, under add_sim_command's `sim`
 void add_eval_command(CLI::App& app, int& exit_code);
+void add_calibrate_command(CLI::App& app, int& exit_code);    // the MAV laser's scan plane from a hover-turn
 void add_eval_rooms_command(CLI::App& eval, int& exit_code);  // `eval rooms`, under add_eval_command's `eval`
 void add_cloud_command(CLI::App& app, int& exit_code);
 void add_record_commands(CLI::App& app, int& exit_code);  // record, replay, info

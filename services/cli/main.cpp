@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   scanbus::cli::add_room_command(app, exit_code);
   scanbus::cli::add_scanmatch_command(app, exit_code);
   scanbus::cli::add_eval_command(app, exit_code);
+  scanbus::cli::add_calibrate_command(app, exit_code);
   scanbus::cli::add_cloud_command(app, exit_code);
   scanbus::cli::add_record_commands(app, exit_code);
   try {

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include "commands.hpp"
 #include "mav_messages.hpp"
@@ -144,8 +145,37 @@ struct EvalMavOptions {
   bool json = false;
   bool no_ground = false;
   bool first_solved = false;
-  std::string config;  // a pose_estimation service config whose fusion settings to evaluate
+  std::string config;           // a pose_estimation service config whose fusion settings to evaluate
+  bool calibrate = false;       // the simulated unit's scan plane calibrated from its own hover-turn first
+  std::string calibration_log;  // a hover-turn log of the same laser to calibrate the scan plane from
 };
+
+// The simulated unit's hover-turn: the same seed draws the same laser mount whatever the flight
+// or the ground.
+constexpr double kCalibrationFlight = 5 * 18 + 1;  // s: five whole turns (a turn takes 18 s)
+
+nlohmann::json calibration_json(const pose_estimation::ScanPlaneCalibration& c) {
+  nlohmann::json json{{"ok", c.ok}, {"status", c.status}};
+  if (c.ok)
+    json.update({{"rotation_deg", c.rotation * 180 / M_PI},
+                 {"sigma_deg", c.sigma * 180 / M_PI},
+                 {"scans", c.scans},
+                 {"line_residual_m", c.line_residual}});
+  return json;
+}
+
+// The calibration the options ask for, or none; throws MavLogError for an unreadable log.
+std::optional<pose_estimation::ScanPlaneCalibration> scan_plane_calibration(const EvalMavOptions& options) {
+  if (!options.calibration_log.empty())
+    return ground_evaluation::calibrate_scan_plane(sensor_replay::load_mav_log(options.calibration_log));
+  if (!options.calibrate) return std::nullopt;
+  FlightOptions hover = options.flight;
+  hover.scenario = 1;
+  hover.pattern = "hover-turn";
+  hover.duration = kCalibrationFlight;
+  hover.terrain.clear();  // a level, even site (a car park), as calibrate_scan_plane asks
+  return ground_evaluation::calibrate_scan_plane(mav_sim::simulate_flight(flight_settings(hover)));
+}
 
 nlohmann::json ground_error_json(const ground_evaluation::GroundModelError& g) {
   nlohmann::json json{{"rmse", g.rmse}, {"median", g.median}, {"p95", g.p95}, {"bias", g.bias}, {"points", g.points}};
@@ -203,6 +233,20 @@ int run_eval_mav(EvalMavOptions options) {
     }
   }
   ground_evaluation::FlightEvaluationSettings base;
+  std::optional<pose_estimation::ScanPlaneCalibration> calibration;
+  try {
+    if (progress && (options.calibrate || !options.calibration_log.empty()))
+      std::printf("\rcalibrating the laser's scan plane   "), std::fflush(stdout);
+    calibration = scan_plane_calibration(options);
+  } catch (const sensor_replay::MavLogError& e) {
+    std::cerr << "scanbus eval mav: --calibration-log: " << e.what() << "\n";
+    return 2;
+  }
+  if (calibration && !calibration->ok) {
+    std::cerr << "scanbus eval mav: the scan plane is " << calibration->status << "\n";
+    return 2;
+  }
+  if (calibration) base.scan_plane_rotation = calibration->rotation;
   try {
     if (!options.config.empty()) {
       const Config file = Config::load(options.config);
@@ -244,6 +288,8 @@ int run_eval_mav(EvalMavOptions options) {
     }
   }
   if (progress) std::printf("\r%60s\r", "");
+  if (calibration && !options.json)
+    std::printf("laser scan plane calibrated: %s, applied to every flight\n", calibration->status.c_str());
   nlohmann::json results = nlohmann::json::array();
   if (!options.json)
     std::printf(
@@ -256,6 +302,7 @@ int run_eval_mav(EvalMavOptions options) {
     const FlightEvaluation& evaluation = evaluations[i];
     if (options.json) {
       results.push_back(evaluation_json(name, evaluation));
+      if (calibration) results.back()["scan_plane_calibration"] = calibration_json(*calibration);
       continue;
     }
     const double best = std::min(evaluation.height_rmse[0], evaluation.height_rmse[1]);
@@ -394,6 +441,15 @@ void add_eval_command(CLI::App& app, int& exit_code) {
   flights->add_flag("--first-solved", mav.first_solved,
                     "Place the scans by the fused heights as first solved (rt/pose), not as they left the fusion's "
                     "window (rt/pose/settled, what cloud_assembly uses): the two side by side");
+  flights->add_flag("--calibrate", mav.calibrate,
+                    "Calibrate the simulated laser's rotation in its scan plane from the same unit's "
+                    "hover-turn (five turns) first, and place every flight's scans with it");
+  flights
+      ->add_option("--calibration-log", mav.calibration_log,
+                   "A hover-turn MAV log of the same laser to calibrate its scan plane from (scanbus calibrate "
+                   "scan-plane), applied to every flight")
+      ->check(CLI::ExistingFile)
+      ->excludes("--calibrate");
   on_run(*flights, exit_code, [] { return run_eval_mav(mav); });
 
   static EvalBoxesOptions boxes;
@@ -429,6 +485,37 @@ void add_eval_command(CLI::App& app, int& exit_code) {
       ->check(CLI::PositiveNumber);
   scoring->add_flag("--json", ground.json, "One JSON object");
   on_run(*scoring, exit_code, [] { return run_eval_ground(ground); });
+}
+
+void add_calibrate_command(CLI::App& app, int& exit_code) {
+  static std::string log;
+  static bool json = false;
+  auto* calibrate = app.add_subcommand("calibrate", "Sensor calibration from recorded flights");
+  calibrate->require_subcommand(1);
+  auto* plane = calibrate->add_subcommand(
+      "scan-plane",
+      "The MAV laser's rotation in its scan plane from a hover-turn log (three whole turns or more): "
+      "pose_estimation's laser_mount.scan_plane_rotation");
+  plane->add_option("--log", log, "The hover-turn MAV log (text or .mcap)")->required()->check(CLI::ExistingFile);
+  plane->add_flag("--json", json, "One JSON object");
+  on_run(*plane, exit_code, [] {
+    pose_estimation::ScanPlaneCalibration calibration;
+    try {
+      calibration = ground_evaluation::calibrate_scan_plane(sensor_replay::load_mav_log(log));
+    } catch (const sensor_replay::MavLogError& e) {
+      std::cerr << "scanbus calibrate scan-plane: " << e.what() << "\n";
+      return 2;
+    }
+    if (json) {
+      std::cout << calibration_json(calibration).dump() << "\n";
+    } else if (calibration.ok) {
+      std::printf("%s\npose_estimation:\n  laser_mount:\n    scan_plane_rotation: %.3f  # degrees, +- %.3f\n",
+                  calibration.status.c_str(), calibration.rotation * 180 / M_PI, calibration.sigma * 180 / M_PI);
+    } else {
+      std::cerr << "scanbus calibrate scan-plane: " << calibration.status << "\n";
+    }
+    return calibration.ok ? 0 : 1;
+  });
 }
 
 }  // namespace scanbus::cli

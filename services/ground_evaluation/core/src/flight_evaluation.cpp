@@ -132,8 +132,9 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
   pose_estimation::PoseEstimatorSettings estimator_settings;
   estimator_settings.fusion = settings.fusion;
   estimator_settings.ground_clearance = settings.ground_clearance;
-  estimator_settings.laser_in_body =
-      transforms::from_xyz_rpy({mount[0], mount[1], mount[2]}, {mount[3], mount[4], mount[5]});
+  estimator_settings.laser_in_body = pose_estimation::turned_in_scan_plane(
+      transforms::from_xyz_rpy({mount[0], mount[1], mount[2]}, {mount[3], mount[4], mount[5]}),
+      settings.scan_plane_rotation);
   estimator_settings.origin = {origin[0], origin[1], origin[2]};
   pose_estimation::PoseEstimator estimator(estimator_settings);
   scan_matcher::ScanMatcher matcher(settings.matcher);
@@ -266,6 +267,15 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
       result.boxes[source] = evaluate_boxes(result.cloud[source], boxes->second[1], boxes->second[0], settings.boxes);
   }
   return result;
+}
+
+pose_estimation::ScanPlaneCalibration calibrate_scan_plane(const MavLog& log) {
+  const auto& mount = log.meta_of("laser_mount", 6);
+  std::vector<pose_estimation::AttitudeSample> attitudes;
+  attitudes.reserve(log.imus.size());
+  for (const auto& imu : log.imus) attitudes.push_back({imu.stamp, imu.orientation});
+  return pose_estimation::calibrate_scan_plane(
+      log.lasers, attitudes, transforms::from_xyz_rpy({mount[0], mount[1], mount[2]}, {mount[3], mount[4], mount[5]}));
 }
 
 }  // namespace scanbus::ground_evaluation

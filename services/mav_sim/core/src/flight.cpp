@@ -279,8 +279,8 @@ sensor_replay::MavLog simulate_flight(const FlightSettings& settings) {
   const double range_bias = s.laser.range_bias * gauss(random);
   const double misaligned_roll = s.laser.misalignment * gauss(random),
                misaligned_pitch = s.laser.misalignment * gauss(random);
-  const Eigen::Isometry3d mount =
-      laser_in_body(s.laser) * from_rpy(misaligned_roll, misaligned_pitch, s.laser.misalignment * gauss(random));
+  const double misaligned_yaw = s.laser.misalignment * gauss(random);  // within the scan plane
+  const Eigen::Isometry3d mount = laser_in_body(s.laser) * from_rpy(misaligned_roll, misaligned_pitch, misaligned_yaw);
   const double baro_takeoff = s.noise.baro_takeoff * gauss(random), baro_warmup = s.noise.baro_warmup * gauss(random),
                baro_weather = s.noise.baro_weather * gauss(random);
   const GeographicLib::LocalCartesian local(s.origin.x(), s.origin.y(), s.origin.z());
@@ -289,6 +289,7 @@ sensor_replay::MavLog simulate_flight(const FlightSettings& settings) {
   log.meta["origin"] = {s.origin.x(), s.origin.y(), s.origin.z()};
   log.meta["laser_mount"] = {s.laser.position.x(), s.laser.position.y(), s.laser.position.z(),
                              s.laser.rpy.x(),      s.laser.rpy.y(),      s.laser.rpy.z()};
+  log.meta["true_laser_misalignment"] = {misaligned_roll, misaligned_pitch, misaligned_yaw};
   if (s.scenario == 4) log.meta["boxes"] = {s.box_size.x(), s.box_size.y(), s.box_size.z()};
   write_terrain(s.terrain, log.meta);
 

@@ -8,6 +8,7 @@
 
 #include "scanbus/atmosphere.hpp"
 #include "scanbus/pose_estimation/laser_height.hpp"
+#include "scanbus/pose_estimation/scan_plane_calibration.hpp"
 
 namespace scanbus::pose_estimation {
 
@@ -21,8 +22,9 @@ PoseEstimatorSettings pose_estimator_settings_from_config(const Config& section)
   const Config mount = section.section("laser_mount");
   const auto xyz = mount.has("xyz") ? mount.numbers("xyz", 3) : std::vector<double>{0, 0, -0.1};
   const auto rpy = mount.has("rpy") ? mount.numbers("rpy", 3) : std::vector<double>{0, 90, 0};
-  s.laser_in_body =
-      transforms::from_xyz_rpy({xyz[0], xyz[1], xyz[2]}, Eigen::Vector3d(rpy[0], rpy[1], rpy[2]) * kDegree);
+  s.laser_in_body = turned_in_scan_plane(
+      transforms::from_xyz_rpy({xyz[0], xyz[1], xyz[2]}, Eigen::Vector3d(rpy[0], rpy[1], rpy[2]) * kDegree),
+      mount.number("scan_plane_rotation", 0.0, -10.0, 10.0) * kDegree);
   s.max_wait = section.number("max_wait", s.max_wait, 0.0, 10.0);
   s.ground_clearance = section.section("ground").flag("enabled", s.ground_clearance);
   s.gps_altitude = section.section("gps").flag("altitude", s.gps_altitude);

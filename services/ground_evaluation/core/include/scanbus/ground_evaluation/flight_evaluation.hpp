@@ -20,6 +20,7 @@
 #include "scanbus/cloud_assembly/elevation_grid.hpp"
 #include "scanbus/ground_evaluation/box_evaluation.hpp"
 #include "scanbus/pose_estimation/height_fusion.hpp"
+#include "scanbus/pose_estimation/scan_plane_calibration.hpp"
 #include "scanbus/scan_matcher/pl_icp.hpp"
 #include "scanbus/sensor_replay/mav_log.hpp"
 
@@ -39,6 +40,8 @@ struct FlightEvaluationSettings {
   sensor::RangeGate gating{0, 30.0, M_PI / 2};  // the paper: 30 m, 90 degrees
   BoxSearchSettings boxes;
   cloud_assembly::ElevationGridSettings elevation;  // the fused cloud's elevation grid
+  double scan_plane_rotation = 0;                   // rad, the laser's calibrated turn in its scan plane
+                                                    // after the log's laser_mount (calibrate_scan_plane)
   // The true ground's height at (x, y), none where a point is not scored (near an edge); empty
   // when the flight's ground is not known (a real flight): no ground-model error then.
   std::function<std::optional<double>(const Eigen::Vector2d&)> true_ground;
@@ -121,5 +124,10 @@ struct FlightEvaluation {
 // the log lacks what the evaluation needs (laser_mount, origin, truth).
 FlightEvaluation evaluate_flight(const sensor_replay::MavLog& log, const FlightEvaluationSettings& settings,
                                  const std::function<void(size_t, size_t)>& progress = {});
+
+// The laser's rotation in its scan plane from a log that turns on the spot (a hover-turn), with
+// the log's IMU attitudes and its META laser_mount; throws MavLogError when the log has no
+// laser_mount.
+pose_estimation::ScanPlaneCalibration calibrate_scan_plane(const sensor_replay::MavLog& log);
 
 }  // namespace scanbus::ground_evaluation
