@@ -4,6 +4,8 @@
 
 #include <random>
 
+#include "scanbus/config.hpp"
+#include "scanbus/pose_estimation/pose_estimator.hpp"
 #include "scanbus/transforms/transform_buffer.hpp"
 
 using namespace scanbus;
@@ -120,4 +122,20 @@ TEST(ScanPlaneCalibration, RefusesScansWithoutAttitudes) {
   const ScanPlaneCalibration result = calibrate_scan_plane(scans, attitudes, flight.drawn());
   EXPECT_FALSE(result.ok);
   EXPECT_NE(result.status.find("IMU attitudes"), std::string::npos) << result.status;
+}
+
+TEST(ScanPlaneCalibration, TheConfiguredRotationTurnsTheMount) {
+  const auto settings_of = [](const std::string& mount) {
+    return pose_estimator_settings_from_config(
+        Config::parse("pose_estimation: {origin: [47.0, 8.0, 400.0], laser_mount: " + mount + "}", "pose.yaml")
+            .section("pose_estimation"));
+  };
+  const Eigen::Isometry3d drawn = settings_of("{rpy: [0, 90, 0]}").laser_in_body;
+  const Eigen::Isometry3d turned = settings_of("{rpy: [0, 90, 0], scan_plane_rotation: 0.7}").laser_in_body;
+  EXPECT_TRUE(turned.isApprox(turned_in_scan_plane(drawn, 0.7 * kDegree)));
+  // The ray straight down in the laser's x leans 0.7 degrees across the body, within the scan plane.
+  const Eigen::Vector3d down = turned.linear() * Eigen::Vector3d::UnitX();
+  EXPECT_NEAR(std::abs(std::asin(down.y())), 0.7 * kDegree, 1e-9);
+  EXPECT_NEAR(down.x(), 0, 1e-9);
+  EXPECT_THROW(settings_of("{scan_plane_rotation: 45}"), ConfigError);
 }
