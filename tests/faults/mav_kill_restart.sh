@@ -3,7 +3,8 @@
 # flight replayed in real time through scan_matcher, pose_estimation and cloud_assembly,
 # each its own process. One after another, each service is killed with SIGKILL and
 # started again 1 s later:
-# - pose_estimation: poses resume (the new process calibrates the barometer afresh);
+# - pose_estimation: poses resume (the new process calibrates the barometer afresh), and
+#   cloud_assembly drops the scans in the gap of poses, naming it;
 # - scan_matcher: matches and poses resume (its first scan has no predecessor);
 # - cloud_assembly: it gets the static transform again (TRANSIENT_LOCAL from
 #   pose_estimation) and a late subscriber gets an assembled cloud.
@@ -29,7 +30,9 @@ printf 'sensor_replay:\n  log: %s\n  rate: 1\n  truth: false\n  wait_for_readers
   "$work/flight.mavlog" > "$work/sensor_replay.yaml"
 cp "$config/mav/scan_matcher.yaml" "$work/scan_matcher.yaml"
 cp "$config/services/pose_estimation.yaml" "$work/pose_estimation.yaml"
-cp "$config/services/cloud_assembly.yaml" "$work/cloud_assembly.yaml"
+# Scans wait up to 30 s for their pose (6 s shipped): a slow restart on a loaded machine must
+# not time the gap's scans out before the new process's poses show the gap.
+sed 's/^  transform_timeout: .*/  transform_timeout: 30.0/' "$config/services/cloud_assembly.yaml" > "$work/cloud_assembly.yaml"
 declare -A pid_of
 start() {
   "$scanbus" run "$1" --config "$work/$1.yaml" >> "$work/$1.log" 2>&1 &
@@ -41,8 +44,11 @@ for service in scan_matcher pose_estimation cloud_assembly; do start "$service";
 pids+=($!)
 "$scanbus" echo rt/scan_match > "$work/matches.jsonl" 2> /dev/null &
 pids+=($!)
+"$scanbus" health --json --timeout 600 > "$work/health.jsonl" 2> /dev/null &
+pids+=($!)
 start sensor_replay
-grows "$work/poses.jsonl" 100 40 || { fail "no poses at the start"; tail -3 "$work"/*.log; exit 1; }
+# 300 poses (10 s): past the fusion's 3 s window, so that settled poses came before the kill.
+grows "$work/poses.jsonl" 300 60 || { fail "no poses at the start"; tail -3 "$work"/*.log; exit 1; }
 echo "pipeline running: $(lines "$work/poses.jsonl") poses"
 
 restart() {  # restart SERVICE: SIGKILL, 1 s, start again
@@ -63,6 +69,12 @@ restart pose_estimation
 grows "$work/poses.jsonl" 100 30 && echo "ok   poses resumed after pose_estimation was killed and restarted" ||
   { fail "no poses within 30 s of pose_estimation's restart"; tail -5 "$work/pose_estimation.log"; }
 others_alive pose_estimation
+# The scans between the killed process's last settled pose and the new one's first are dropped
+# with the gap named (max_pose_gap), not placed on a straight line across the restart.
+for _ in $(seq 150); do grep -q 'falls in a gap.*"service":"cloud_assembly"' "$work/health.jsonl" && break; sleep 0.2; done
+grep -q 'falls in a gap.*"service":"cloud_assembly"' "$work/health.jsonl" &&
+  echo "ok   cloud_assembly dropped the scans in the poses' gap: $(grep -m1 -o "stamp [^\"]* interpolated)" "$work/health.jsonl")" ||
+  { fail "cloud_assembly did not name the poses' gap across pose_estimation's restart"; grep cloud_assembly "$work/health.jsonl" | tail -2; }
 
 restart scan_matcher
 grows "$work/matches.jsonl" 100 30 && grows "$work/poses.jsonl" 100 30 &&

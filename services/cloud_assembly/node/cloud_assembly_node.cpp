@@ -44,6 +44,7 @@ Settings read_settings(const Config& config) {
   a.window_points = static_cast<size_t>(config.integer("window_points", 20000000, 1, 1000000000));
   a.transform_timeout = config.number("transform_timeout", 6.0, 0.0, 600);
   a.cache_time = config.number("cache_time", 30.0, 1.0, 3600);
+  a.max_pose_gap = config.number("max_pose_gap", a.max_pose_gap, 0.001, 3600);
   s.publish_period = config.number("publish_period", 1.0, 0.05, 3600);
   s.settled_poses = config.flag("settled_poses", true);
   s.body_frame = config.text("body_frame", "base_link");

@@ -6,7 +6,7 @@ namespace scanbus::cloud_assembly {
 
 Assembler::Assembler(const AssemblerSettings& settings)
     : settings_(settings),
-      buffer_(settings.cache_time),
+      buffer_(settings.cache_time, 0.0, settings.max_pose_gap),
       continuous_(settings.voxel_size, settings.max_voxels),
       window_(settings.window_age, settings.window_points) {}
 
@@ -31,7 +31,16 @@ AssemblyReport Assembler::assemble_ready(double now) {
   while (!pending_.empty()) {
     const PendingScan& next = pending_.front();
     std::string why;
-    if (const auto to_fixed = buffer_.try_lookup(settings_.fixed_frame, next.frame, next.scan.stamp, &why)) {
+    bool in_gap = false;  // no later transform will fill it: dropped at once
+    std::optional<Eigen::Isometry3d> to_fixed;
+    try {
+      to_fixed = buffer_.lookup(settings_.fixed_frame, next.frame, next.scan.stamp);
+    } catch (const transforms::TransformGap& gap) {
+      why = gap.what(), in_gap = true;
+    } catch (const transforms::TransformError& error) {
+      why = error.what();
+    }
+    if (to_fixed) {
       std::vector<Eigen::Vector3d> points = scan_points(next.scan, settings_.gating);
       for (auto& p : points) p = *to_fixed * p;
       continuous_.add(points);
@@ -40,7 +49,7 @@ AssemblyReport Assembler::assemble_ready(double now) {
       newest_assembled_ = std::max(newest_assembled_, next.scan.stamp);
       window_.add(next.scan.stamp, std::move(window_points));
       ++report.assembled;
-    } else if (newest_ - next.scan.stamp > settings_.transform_timeout) {
+    } else if (in_gap || newest_ - next.scan.stamp > settings_.transform_timeout) {
       ++report.dropped;
       report.problems.push_back("scan dropped: " + why);
     } else {

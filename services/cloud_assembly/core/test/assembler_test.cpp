@@ -74,7 +74,9 @@ TEST(Assembler, FramesNoTransformJoinsAreSaidOnceAfterASecond) {
 // scans are looked at: its newer stamps must not time a scan out that its other transforms
 // complete.
 TEST(Assembler, AMessagesTransformsAreAllInBeforeAnyScanIsTimedOut) {
-  Assembler assembler(settings());  // transform_timeout 2 s
+  AssemblerSettings bridged = settings();  // transform_timeout 2 s
+  bridged.max_pose_gap = 10;               // the two samples 5 s apart are interpolated
+  Assembler assembler(bridged);
   assembler.add_static("base_link", "laser", up(0));
   assembler.add_scan("laser", scan_at(1.0), 0);  // waits: nothing joins map and base_link yet
   assembler.add_transform("map", "odom", 0.0, up(0));
@@ -84,6 +86,22 @@ TEST(Assembler, AMessagesTransformsAreAllInBeforeAnyScanIsTimedOut) {
   const AssemblyReport report = assembler.assemble_ready(0);
   EXPECT_EQ(report.assembled, 1u);
   EXPECT_EQ(report.dropped, 0u) << (report.problems.empty() ? "" : report.problems[0]);
+}
+
+// The pose source restarted: its poses stop at 0.5 s and come again from 3 s. A scan in
+// between is dropped at once, with the gap named, not placed on the line between the two and
+// not held up to the timeout either; the scans on both sides are placed.
+TEST(Assembler, AScanInAGapOfThePosesIsDroppedAtOnce) {
+  Assembler assembler(settings());  // max_pose_gap 1 s
+  assembler.add_static("base_link", "laser", up(0));
+  for (double t = 0; t <= 0.5; t += 0.1) assembler.add_transform("map", "base_link", t, up(1));
+  for (double t = 3.0; t <= 3.2; t += 0.1) assembler.add_transform("map", "base_link", t, up(1.3));
+  EXPECT_EQ(assembler.add_scan("laser", scan_at(0.45), 0).assembled, 1u);
+  const AssemblyReport gap = assembler.add_scan("laser", scan_at(1.5), 0);
+  EXPECT_EQ(gap.dropped, 1u);
+  ASSERT_EQ(gap.problems.size(), 1u);
+  EXPECT_NE(gap.problems[0].find("falls in a gap of 2.500 s"), std::string::npos) << gap.problems[0];
+  EXPECT_EQ(assembler.add_scan("laser", scan_at(3.05), 0).assembled, 1u);
 }
 
 TEST(Assembler, WindowRequestsThatCannotBeAnsweredSayWhy) {

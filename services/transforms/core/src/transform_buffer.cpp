@@ -54,7 +54,7 @@ double TransformSeries::outside_by(double stamp) const {
   return 0;
 }
 
-Eigen::Isometry3d TransformSeries::at(double stamp, double max_extrapolation) const {
+Eigen::Isometry3d TransformSeries::at(double stamp, double max_extrapolation, double max_gap) const {
   if (samples_.empty()) throw TransformError("no transform received yet");
   const double outside = outside_by(stamp);
   if (std::abs(outside) > max_extrapolation) {
@@ -68,6 +68,10 @@ Eigen::Isometry3d TransformSeries::at(double stamp, double max_extrapolation) co
                                       [](const auto& sample, double t) { return sample.first < t; });
   if (later->first == stamp || later == samples_.begin()) return later->second;
   const auto& before = *std::prev(later);
+  if (later->first - before.first > max_gap)
+    throw TransformGap("stamp " + seconds(stamp) + " falls in a gap of " + seconds(later->first - before.first) +
+                       " s between transforms at " + seconds(before.first) + " and " + seconds(later->first) +
+                       " (at most " + seconds(max_gap) + " s is interpolated)");
   return interpolate(before.second, later->second, (stamp - before.first) / (later->first - before.first));
 }
 
@@ -115,7 +119,9 @@ Eigen::Isometry3d TransformBuffer::up_to(const std::string& frame, const std::st
   for (std::string at = frame; at != ancestor;) {
     const Edge& e = edges_.at(at);
     try {
-      ancestor_T_frame = (e.is_static ? e.fixed : e.series.at(stamp, max_extrapolation_)) * ancestor_T_frame;
+      ancestor_T_frame = (e.is_static ? e.fixed : e.series.at(stamp, max_extrapolation_, max_gap_)) * ancestor_T_frame;
+    } catch (const TransformGap& gap) {
+      throw TransformGap("'" + e.parent + "' -> '" + at + "': " + gap.what());
     } catch (const TransformError& error) {
       throw TransformError("'" + e.parent + "' -> '" + at + "': " + error.what());
     }

@@ -43,6 +43,28 @@ TEST(TransformSeries, ExtrapolationBeyondTheBoundIsAnError) {
   EXPECT_THROW(series.at(9.0), TransformError);
 }
 
+TEST(TransformSeries, AGapWiderThanTheBoundIsNotBridged) {
+  TransformSeries series;
+  series.add(10.0, pose(0, 0, 0, 0));
+  series.add(10.1, pose(0.1, 0, 0, 0));
+  series.add(12.1, pose(5, 0, 0, 0));  // the source restarted
+  EXPECT_NEAR(series.at(10.05, 0, 1.0).translation().x(), 0.05, 1e-12);
+  EXPECT_NEAR(series.at(12.1, 0, 1.0).translation().x(), 5, 1e-12);  // on a sample: no gap to bridge
+  EXPECT_THROW(series.at(11.0, 0, 1.0), TransformGap);
+  EXPECT_NEAR(series.at(11.0).translation().x(), 2.305, 1e-12);  // unbounded, as tf2
+  TransformBuffer buffer(10.0, 0.0, 1.0);
+  buffer.add("map", "base_link", 10.0, pose(0, 0, 0, 0));
+  buffer.add("map", "base_link", 12.1, pose(5, 0, 0, 0));
+  try {
+    buffer.lookup("map", "base_link", 11.0);
+    FAIL();
+  } catch (const TransformGap& e) {
+    EXPECT_NE(std::string(e.what()).find("'map' -> 'base_link': stamp 11.000 falls in a gap of 2.100 s"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(TransformSeries, OutOfOrderSamplesFindTheirPlaceAndOldOnesAreDropped) {
   TransformSeries series(2.0);
   series.add(1.0, pose(1, 0, 0, 0));

@@ -24,6 +24,8 @@ struct AssemblerSettings {
   double transform_timeout = 2.0;   // s: a scan still without its transform this long after its stamp
                                     // (by the newest stamp seen) is dropped
   double cache_time = 30.0;         // s of transforms kept
+  double max_pose_gap = 1.0;        // s: a scan between two poses further apart is dropped, not placed on
+                                    // the straight line between them (the pose source stopped: a restart)
 };
 
 // What one call did, for Health.

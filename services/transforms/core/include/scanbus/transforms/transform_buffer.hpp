@@ -5,6 +5,8 @@
 
 #include <Eigen/Geometry>
 
+#include <cmath>
+
 #include <deque>
 #include <map>
 #include <optional>
@@ -19,6 +21,13 @@ class TransformError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A stamp between two samples further apart than the interpolation may bridge: the source
+// stopped in between (a restart), and no later sample will fill the gap.
+class TransformGap : public TransformError {
+ public:
+  using TransformError::TransformError;
+};
+
 // One transform over time, e.g. the body's pose in the map. Samples may arrive slightly out
 // of order; those older than `cache_time` behind the newest are dropped.
 class TransformSeries {
@@ -28,7 +37,8 @@ class TransformSeries {
   void add(double stamp, const Eigen::Isometry3d& transform);
   // Interpolated at `stamp`; a stamp outside the samples is served by the nearest one when
   // within `max_extrapolation` s of it, otherwise TransformError says by how much it missed.
-  Eigen::Isometry3d at(double stamp, double max_extrapolation = 0.0) const;
+  // Between samples more than `max_gap` s apart it throws TransformGap.
+  Eigen::Isometry3d at(double stamp, double max_extrapolation = 0.0, double max_gap = INFINITY) const;
   // 0 when inside; the seconds before the first sample (negative) or after the newest.
   double outside_by(double stamp) const;
   bool empty() const { return samples_.empty(); }
@@ -53,14 +63,18 @@ Eigen::Isometry3d from_xyz_rpy(const Eigen::Vector3d& xyz, const Eigen::Vector3d
 // (`parent_T_child`, a child point brought into the parent frame).
 class TransformBuffer {
  public:
-  explicit TransformBuffer(double cache_time = 10.0, double max_extrapolation = 0.0)
-      : cache_time_(cache_time), max_extrapolation_(max_extrapolation) {}
+  // `max_interpolation_gap`: s between two samples of an edge that a lookup interpolates
+  // across (tf2 bridges any gap: infinity).
+  explicit TransformBuffer(double cache_time = 10.0, double max_extrapolation = 0.0,
+                           double max_interpolation_gap = INFINITY)
+      : cache_time_(cache_time), max_extrapolation_(max_extrapolation), max_gap_(max_interpolation_gap) {}
 
   void set_static(const std::string& parent, const std::string& child, const Eigen::Isometry3d& transform);
   void add(const std::string& parent, const std::string& child, double stamp, const Eigen::Isometry3d& transform);
 
   // `target_T_source` at `stamp`: a point in `source` brought into `target`. Throws
-  // TransformError naming the frame, the edge and the time it could not serve.
+  // TransformError naming the frame, the edge and the time it could not serve (TransformGap
+  // for a stamp in a gap).
   Eigen::Isometry3d lookup(const std::string& target, const std::string& source, double stamp) const;
   // The same without throwing: none, with the reason in `why`.
   std::optional<Eigen::Isometry3d> try_lookup(const std::string& target, const std::string& source, double stamp,
@@ -81,7 +95,7 @@ class TransformBuffer {
   Eigen::Isometry3d up_to(const std::string& frame, const std::string& ancestor, double stamp) const;
   Edge& edge(const std::string& parent, const std::string& child);
 
-  double cache_time_, max_extrapolation_;
+  double cache_time_, max_extrapolation_, max_gap_;
   std::map<std::string, Edge> edges_;  // by child
 };
 
