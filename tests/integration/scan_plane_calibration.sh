@@ -6,9 +6,7 @@
 set -euo pipefail
 source "$(dirname "$0")/lib.sh"
 scanbus=$1
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-failures=0
+with_work
 
 "$scanbus" sim mav --pattern hover-turn --duration 91 --seed 9 --out "$work/hover.mavlog" > /dev/null
 "$scanbus" calibrate scan-plane --log "$work/hover.mavlog" --json > "$work/calibration.json"
