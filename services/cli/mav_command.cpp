@@ -420,7 +420,7 @@ void add_eval_command(CLI::App& app, int& exit_code) {
   auto* flights = eval->add_subcommand("mav",
                                        "Height RMSE and box P of MAV flights through the whole pipeline "
                                        "(simulated scenarios unless --log is given)");
-  flights->add_option("--log", mav.logs, "MAV logs to evaluate (text or .mcap)")->check(CLI::ExistingFile);
+  auto* logs = flights->add_option("--log", mav.logs, "MAV logs to evaluate (text or .mcap)")->check(CLI::ExistingFile);
   flights->add_option("--scenarios", mav.scenarios, "Scenarios to simulate and evaluate")
       ->delimiter(',')
       ->check(CLI::Range(1, 4));
@@ -441,9 +441,11 @@ void add_eval_command(CLI::App& app, int& exit_code) {
   flights->add_flag("--first-solved", mav.first_solved,
                     "Place the scans by the fused heights as first solved (rt/pose), not as they left the fusion's "
                     "window (rt/pose/settled, what cloud_assembly uses): the two side by side");
-  flights->add_flag("--calibrate", mav.calibrate,
-                    "Calibrate the simulated laser's rotation in its scan plane from the same unit's "
-                    "hover-turn (five turns) first, and place every flight's scans with it");
+  flights
+      ->add_flag("--calibrate", mav.calibrate,
+                 "Calibrate the simulated laser's rotation in its scan plane from the same unit's "
+                 "hover-turn (five turns) first, and place every flight's scans with it")
+      ->excludes(logs);
   flights
       ->add_option("--calibration-log", mav.calibration_log,
                    "A hover-turn MAV log of the same laser to calibrate its scan plane from (scanbus calibrate "

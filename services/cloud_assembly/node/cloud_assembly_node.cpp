@@ -48,6 +48,7 @@ Settings read_settings(const Config& config) {
   s.publish_period = config.number("publish_period", 1.0, 0.05, 3600);
   s.settled_poses = config.flag("settled_poses", true);
   s.body_frame = config.text("body_frame", "base_link");
+  a.body_frame = s.body_frame;
   const Config elevation = config.section("elevation");
   s.elevation.cell_size = elevation.number("cell_size", 0.5, 0.0, 1000);
   s.elevation.min_points = static_cast<size_t>(elevation.integer("min_points", 3, 1, 1000000));

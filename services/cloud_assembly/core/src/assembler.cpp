@@ -6,9 +6,11 @@ namespace scanbus::cloud_assembly {
 
 Assembler::Assembler(const AssemblerSettings& settings)
     : settings_(settings),
-      buffer_(settings.cache_time, 0.0, settings.max_pose_gap),
+      buffer_(settings.cache_time),
       continuous_(settings.voxel_size, settings.max_voxels),
-      window_(settings.window_age, settings.window_points) {}
+      window_(settings.window_age, settings.window_points) {
+  buffer_.limit_gap(settings.body_frame, settings.max_pose_gap);
+}
 
 void Assembler::add_static(const std::string& parent, const std::string& child, const Eigen::Isometry3d& transform) {
   buffer_.set_static(parent, child, transform);

@@ -74,14 +74,14 @@ TEST(Assembler, FramesNoTransformJoinsAreSaidOnceAfterASecond) {
 // scans are looked at: its newer stamps must not time a scan out that its other transforms
 // complete.
 TEST(Assembler, AMessagesTransformsAreAllInBeforeAnyScanIsTimedOut) {
-  AssemblerSettings bridged = settings();  // transform_timeout 2 s
-  bridged.max_pose_gap = 10;               // the two samples 5 s apart are interpolated
-  Assembler assembler(bridged);
+  Assembler assembler(settings());  // transform_timeout 2 s; map -> odom and odom -> base_link 5 s apart
   assembler.add_static("base_link", "laser", up(0));
   assembler.add_scan("laser", scan_at(1.0), 0);  // waits: nothing joins map and base_link yet
   assembler.add_transform("map", "odom", 0.0, up(0));
   assembler.add_transform("map", "odom", 5.0, up(0));        // 4 s newer than the scan
   assembler.add_transform("odom", "base_link", 0.0, up(1));  // the message's last two complete the chain
+  assembler.add_transform("odom", "base_link", 0.5, up(1));  // (the body's pose within max_pose_gap)
+  assembler.add_transform("odom", "base_link", 1.2, up(1));
   assembler.add_transform("odom", "base_link", 5.0, up(1));
   const AssemblyReport report = assembler.assemble_ready(0);
   EXPECT_EQ(report.assembled, 1u);

@@ -118,8 +118,10 @@ Eigen::Isometry3d TransformBuffer::up_to(const std::string& frame, const std::st
   Eigen::Isometry3d ancestor_T_frame = Eigen::Isometry3d::Identity();
   for (std::string at = frame; at != ancestor;) {
     const Edge& e = edges_.at(at);
+    const auto limited = max_gaps_.find(at);
+    const double max_gap = limited == max_gaps_.end() ? INFINITY : limited->second;
     try {
-      ancestor_T_frame = (e.is_static ? e.fixed : e.series.at(stamp, max_extrapolation_, max_gap_)) * ancestor_T_frame;
+      ancestor_T_frame = (e.is_static ? e.fixed : e.series.at(stamp, max_extrapolation_, max_gap)) * ancestor_T_frame;
     } catch (const TransformGap& gap) {
       throw TransformGap("'" + e.parent + "' -> '" + at + "': " + gap.what());
     } catch (const TransformError& error) {

@@ -17,15 +17,16 @@ namespace scanbus::cloud_assembly {
 struct AssemblerSettings {
   std::string fixed_frame = "map";  // the cloud's frame
   sensor::RangeGate gating;
-  double voxel_size = 0.01;         // m, the continuous cloud's voxels
-  size_t max_voxels = 5000000;      // its budget
-  double window_age = 600.0;        // s of scans kept for window requests
-  size_t window_points = 20000000;  // their budget
-  double transform_timeout = 2.0;   // s: a scan still without its transform this long after its stamp
-                                    // (by the newest stamp seen) is dropped
-  double cache_time = 30.0;         // s of transforms kept
-  double max_pose_gap = 1.0;        // s: a scan between two poses further apart is dropped, not placed on
-                                    // the straight line between them (the pose source stopped: a restart)
+  double voxel_size = 0.01;              // m, the continuous cloud's voxels
+  size_t max_voxels = 5000000;           // its budget
+  double window_age = 600.0;             // s of scans kept for window requests
+  size_t window_points = 20000000;       // their budget
+  double transform_timeout = 2.0;        // s: a scan still without its transform this long after its stamp
+                                         // (by the newest stamp seen) is dropped
+  double cache_time = 30.0;              // s of transforms kept
+  std::string body_frame = "base_link";  // the frame whose pose comes per scan (rt/pose/settled, rt/tf)
+  double max_pose_gap = 1.0;  // s: a scan between two poses of body_frame further apart is dropped, not placed
+                              // on the straight line between them (the poses stopped: a restart)
 };
 
 // What one call did, for Health.

@@ -63,11 +63,13 @@ Eigen::Isometry3d from_xyz_rpy(const Eigen::Vector3d& xyz, const Eigen::Vector3d
 // (`parent_T_child`, a child point brought into the parent frame).
 class TransformBuffer {
  public:
-  // `max_interpolation_gap`: s between two samples of an edge that a lookup interpolates
-  // across (tf2 bridges any gap: infinity).
-  explicit TransformBuffer(double cache_time = 10.0, double max_extrapolation = 0.0,
-                           double max_interpolation_gap = INFINITY)
-      : cache_time_(cache_time), max_extrapolation_(max_extrapolation), max_gap_(max_interpolation_gap) {}
+  explicit TransformBuffer(double cache_time = 10.0, double max_extrapolation = 0.0)
+      : cache_time_(cache_time), max_extrapolation_(max_extrapolation) {}
+
+  // At most `max_gap` s between two samples of `child`'s transform that a lookup interpolates
+  // across (tf2, and every other frame here, bridges any gap): for a transform that comes at
+  // a known rate, such as a body pose per scan.
+  void limit_gap(const std::string& child, double max_gap) { max_gaps_[child] = max_gap; }
 
   void set_static(const std::string& parent, const std::string& child, const Eigen::Isometry3d& transform);
   void add(const std::string& parent, const std::string& child, double stamp, const Eigen::Isometry3d& transform);
@@ -95,8 +97,9 @@ class TransformBuffer {
   Eigen::Isometry3d up_to(const std::string& frame, const std::string& ancestor, double stamp) const;
   Edge& edge(const std::string& parent, const std::string& child);
 
-  double cache_time_, max_extrapolation_, max_gap_;
-  std::map<std::string, Edge> edges_;  // by child
+  double cache_time_, max_extrapolation_;
+  std::map<std::string, Edge> edges_;       // by child
+  std::map<std::string, double> max_gaps_;  // by child
 };
 
 }  // namespace scanbus::transforms
