@@ -36,9 +36,8 @@ std::optional<Eigen::Quaterniond> attitude_at(const std::vector<AttitudeSample>&
   return before->orientation.slerp(weight, after->orientation);
 }
 
-// The scan line's slope (dz per m) along the body's y axis laid flat, with the laser turned
-// `rotation` in its scan plane. Translations do not change a slope, so only rotations enter.
-// Each point as (along the body's y axis laid flat, height), in the map's orientation.
+// Each point as (along the body's y axis laid flat, height), in the map's orientation, with
+// the laser turned `rotation` in its scan plane.
 std::vector<Eigen::Vector2d> profile(const SeenScan& scan, const Eigen::Isometry3d& laser_in_body, double rotation) {
   const Eigen::Matrix3d to_map = scan.body * turned_in_scan_plane(laser_in_body, rotation).linear();
   Eigen::Vector3d across = scan.body.col(1);
