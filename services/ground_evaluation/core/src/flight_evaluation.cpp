@@ -124,17 +124,25 @@ GroundModelError ground_model_error(const std::vector<Eigen::Vector3f>& cloud,
   return error;
 }
 
+namespace {
+
+// The laser in base_link as the log's META laser_mount draws it.
+Eigen::Isometry3d drawn_mount(const MavLog& log) {
+  const auto& mount = log.meta_of("laser_mount", 6);
+  return transforms::from_xyz_rpy({mount[0], mount[1], mount[2]}, {mount[3], mount[4], mount[5]});
+}
+
+}  // namespace
+
 FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettings& settings,
                                  const std::function<void(size_t, size_t)>& progress) {
-  const auto& mount = log.meta_of("laser_mount", 6);
+  const Eigen::Isometry3d mount = drawn_mount(log);
   const auto& origin = log.meta_of("origin", 3);
   if (log.truths.empty()) throw MavLogError("the log has no TRUTH records to score against");
   pose_estimation::PoseEstimatorSettings estimator_settings;
   estimator_settings.fusion = settings.fusion;
   estimator_settings.ground_clearance = settings.ground_clearance;
-  estimator_settings.laser_in_body = pose_estimation::turned_in_scan_plane(
-      transforms::from_xyz_rpy({mount[0], mount[1], mount[2]}, {mount[3], mount[4], mount[5]}),
-      settings.scan_plane_rotation);
+  estimator_settings.laser_in_body = pose_estimation::turned_in_scan_plane(mount, settings.scan_plane_rotation);
   estimator_settings.origin = {origin[0], origin[1], origin[2]};
   pose_estimation::PoseEstimator estimator(estimator_settings);
   scan_matcher::ScanMatcher matcher(settings.matcher);
@@ -270,12 +278,10 @@ FlightEvaluation evaluate_flight(const MavLog& log, const FlightEvaluationSettin
 }
 
 pose_estimation::ScanPlaneCalibration calibrate_scan_plane(const MavLog& log) {
-  const auto& mount = log.meta_of("laser_mount", 6);
   std::vector<pose_estimation::AttitudeSample> attitudes;
   attitudes.reserve(log.imus.size());
   for (const auto& imu : log.imus) attitudes.push_back({imu.stamp, imu.orientation});
-  return pose_estimation::calibrate_scan_plane(
-      log.lasers, attitudes, transforms::from_xyz_rpy({mount[0], mount[1], mount[2]}, {mount[3], mount[4], mount[5]}));
+  return pose_estimation::calibrate_scan_plane(log.lasers, attitudes, drawn_mount(log));
 }
 
 }  // namespace scanbus::ground_evaluation
