@@ -78,8 +78,17 @@ sleep 4  # the last poses (settled 1.5 s after the input ended) and the last clo
 kill -INT "$echo_pid" "$truth_pid"; wait "$echo_pid" "$truth_pid"
 grep -h "samples lost" "$work"/*.log | tail -5  # where poses went missing, if any did
 # Scans the cloud lost (scans_dropped) and why (its last error): Health, not the log, says it.
-"$scanbus" health --once --timeout 3 | grep cloud_assembly || true
-"$scanbus" cloud save --out "$work/assembled.pcd" --timeout 10 || fail "no rt/cloud/assembled"
+"$scanbus" health --once --timeout 5 | grep cloud_assembly || echo "no Health from cloud_assembly within 5 s"
+# A silent service is diagnosed from its own words: alive or not, and its log's end.
+services=(scan_matcher pose_estimation cloud_assembly)  # pids[0..2], as started
+show_services() {
+  for i in "${!services[@]}"; do
+    if kill -0 "${pids[$i]}" 2> /dev/null; then echo "== ${services[$i]} (running):"
+    else wait "${pids[$i]}"; echo "== ${services[$i]} (ended with status $?):"; fi
+    tail -n 15 "$work/${services[$i]}.log"
+  done
+}
+"$scanbus" cloud save --out "$work/assembled.pcd" --timeout 30 || { fail "no rt/cloud/assembled"; show_services; }
 "$scanbus" cloud save --window 1700000000,1700000180 --out "$work/window.pcd" --timeout 10 || fail "no assemble reply"
 "$scanbus" eval boxes "$work/window.pcd" --truth 0.4,0.6 --json > "$work/boxes_window.json"
 "$scanbus" eval boxes "$work/assembled.pcd" --truth 0.4,0.6 --json > "$work/boxes_assembled.json"
@@ -167,11 +176,10 @@ if "boxes" in reference:  # scenario IV and the live flight; the other samples h
     assert window["performance_percent"] >= 97.0, window  # a floor about the sweeps' lowest seeds (96.8-97.4 %)
 PY
 
-for i in "${!pids[@]}"; do
-  pid=${pids[$i]}
-  { [ "$pid" = "$echo_pid" ] || [ "$pid" = "$truth_pid" ]; } && continue
-  kill -0 "$pid" 2> /dev/null || { fail "a service died early"; continue; }
-  expect_clean_stop "service $pid" "$pid" TERM "$work/scan_matcher.log" || failures=$((failures + 1))
+for i in "${!services[@]}"; do
+  pid=${pids[$i]} service=${services[$i]}
+  kill -0 "$pid" 2> /dev/null || { fail "$service died early"; tail -n 15 "$work/$service.log"; continue; }
+  expect_clean_stop "$service" "$pid" TERM "$work/$service.log" || failures=$((failures + 1))
 done
 pids=()
 [ "$failures" -eq 0 ] && echo "mav pipeline: ok"
