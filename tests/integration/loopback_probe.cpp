@@ -2,6 +2,9 @@
 // PointCloud2 of N points, a RoomMeasurement and a TFMessage; `loopback_probe receive`
 // regenerates the same samples, compares them byte for byte with what arrived, waits
 // for the sender's Health, and exits 0 only when everything matched.
+// `loopback_probe latch` writes the two latched samples (cloud, room) at once, with no
+// reader yet, and stays; `loopback_probe receive-latched` is a late reader of both, as
+// `scanbus cloud save` is of cloud_assembly's map.
 #include <cmath>
 #include <cstring>
 #include <iostream>
@@ -112,16 +115,34 @@ bool same_bytes(const typename PubSubType::type& a, const typename PubSubType::t
 
 class Sender : public Service {
  public:
-  explicit Sender(ServiceContext& context)
+  Sender(ServiceContext& context, bool latched_only)
       : log_(context.log),
+        latched_only_(latched_only),
         points_(static_cast<uint32_t>(context.config.section("probe").integer("points", 1000000, 1, 10000000))),
+        rewrite_period_(context.config.section("probe").number("rewrite_period", 0.0, 0.0, 60.0)),
         scan_(context.participant, topics::kScan, QosSettings{true, false, false, 10}),
         cloud_(context.participant, topics::kScannerCloud),
         room_(context.participant, topics::kRoomMeasurement),
         tf_(context.participant, topics::kTf),
         sent_(context.health.counter("samples_sent")) {}
 
-  int run() override {
+  int run() override { return latched_only_ ? latch() : send(); }
+
+ private:
+  int latch() {
+    const auto cloud = make_cloud(points_);
+    const bool written = cloud_.write(cloud) && room_.write(make_room());
+    sent_ += 2;
+    log_->info("latched 2 samples, cloud of {} points ({} bytes)", points_, cloud.data().size());
+    if (!written) return 1;
+    // As cloud_assembly does while its map grows: the same cloud again every period.
+    const auto period = std::chrono::milliseconds(static_cast<long>(rewrite_period_ * 1000));
+    while (!StopSignal::wait_for(rewrite_period_ > 0 ? period : std::chrono::milliseconds(1000)))
+      if (rewrite_period_ > 0 && !cloud_.write(cloud)) log_->warn("cloud not written again");
+    return 0;
+  }
+
+  int send() {
     if (!scan_.wait_for_readers(1, 30s) || !cloud_.wait_for_readers(1, 30s) || !room_.wait_for_readers(1, 30s) ||
         !tf_.wait_for_readers(1, 30s)) {
       log_->error("no receiver matched within 30 s");
@@ -138,9 +159,10 @@ class Sender : public Service {
     return 0;
   }
 
- private:
   std::shared_ptr<spdlog::logger> log_;
+  bool latched_only_;
   uint32_t points_;
+  double rewrite_period_;  // latch: the cloud written again this often (s), 0 once
   Writer<sensor_msgs::msg::LaserScanPubSubType> scan_;
   Writer<sensor_msgs::msg::PointCloud2PubSubType> cloud_;
   Writer<scanbus::msg::RoomMeasurementPubSubType> room_;
@@ -150,8 +172,9 @@ class Sender : public Service {
 
 class Receiver : public Service {
  public:
-  explicit Receiver(ServiceContext& context)
+  Receiver(ServiceContext& context, size_t expected_kinds)
       : log_(context.log),
+        expected_kinds_(expected_kinds),
         points_(static_cast<uint32_t>(context.config.section("probe").integer("points", 1000000, 1, 10000000))),
         timeout_(context.config.section("probe").number("timeout", 60.0, 1.0, 600.0)),
         scan_(context.participant, topics::kScan, QosSettings{true, false, false, 10},
@@ -179,14 +202,14 @@ class Receiver : public Service {
     while (!StopSignal::wait_for(100ms)) {
       std::lock_guard<std::mutex> lock(mutex_);
       if (!failed_.empty()) break;
-      if (passed_.size() == 5) break;
+      if (passed_.size() == expected_kinds_) break;
       if (std::chrono::steady_clock::now() > deadline) break;
     }
     std::lock_guard<std::mutex> lock(mutex_);
     for (const auto& name : passed_) std::cout << "intact: " << name << "\n";
     for (const auto& name : failed_) std::cout << "CORRUPT: " << name << "\n";
-    if (passed_.size() == 5 && failed_.empty()) return 0;
-    std::cout << "received " << passed_.size() << " of 5 expected kinds\n";
+    if (passed_.size() == expected_kinds_ && failed_.empty()) return 0;
+    std::cout << "received " << passed_.size() << " of " << expected_kinds_ << " expected kinds\n";
     return 1;
   }
 
@@ -197,6 +220,7 @@ class Receiver : public Service {
   }
 
   std::shared_ptr<spdlog::logger> log_;
+  size_t expected_kinds_;  // all five, or the latched two and Health
   uint32_t points_;
   double timeout_;
   std::mutex mutex_;
@@ -212,12 +236,13 @@ class Receiver : public Service {
 
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "";
-  if (mode == "send")
+  const bool latched = mode == "latch" || mode == "receive-latched";
+  if (mode == "send" || mode == "latch")
     return service_main("probe_sender", argc - 1, argv + 1,
-                        [](ServiceContext& c) { return std::make_unique<Sender>(c); });
-  if (mode == "receive")
+                        [latched](ServiceContext& c) { return std::make_unique<Sender>(c, latched); });
+  if (mode == "receive" || mode == "receive-latched")
     return service_main("probe_receiver", argc - 1, argv + 1,
-                        [](ServiceContext& c) { return std::make_unique<Receiver>(c); });
-  std::cerr << "usage: loopback_probe send|receive [--config FILE]\n";
+                        [latched](ServiceContext& c) { return std::make_unique<Receiver>(c, latched ? 3 : 5); });
+  std::cerr << "usage: loopback_probe send|receive|latch|receive-latched [--config FILE]\n";
   return 2;
 }

@@ -107,10 +107,10 @@ TEST(ScanMatcherService, TracksAKnownFlightAndRejectsABadScan) {
 TEST(ScanMatcherService, CountsTheScansABurstLost) {
   char dir[] = "/tmp/scanbus_scan_matcher_XXXXXX";
   const std::string work = mkdtemp(dir);
-  launch::System system({SCANBUS_CLI, work, {"", "localhost", 85}, true});
+  launch::System system({SCANBUS_CLI, work, {"", "localhost", 95}, true});
   system.start("scan_matcher");
 
-  Participant participant(DdsSettings{"", "localhost", 85}, "scanbus/test_scan_burst");
+  Participant participant(DdsSettings{"", "localhost", 95}, "scanbus/test_scan_burst");
   Writer<sensor_msgs::msg::LaserScanPubSubType> scans(participant, topics::kScan);
   std::mutex mutex;
   uint64_t processed = 0, lost = 0;

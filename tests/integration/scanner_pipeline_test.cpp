@@ -151,7 +151,7 @@ void write_all(sim::PtyDevice& device, std::string bytes) {
 }  // namespace
 
 TEST_F(ScannerPipeline, FullScanOfTheDefaultRoomArrivesWhole) {
-  use_domain(71);
+  use_domain(89);
   start_scanner_io("{resolution: 1}");
   wait_for_discovery();
   start_simulator({"--speed", "20", "--dropout", "0", "--seed", "3"});
@@ -197,7 +197,7 @@ TEST_F(ScannerPipeline, FullScanOfTheDefaultRoomArrivesWhole) {
 }
 
 TEST_F(ScannerPipeline, ReconnectsAfterUnplugAndScansAgain) {
-  use_domain(72);
+  use_domain(90);
   // Unplugged 20 s into the first scan (1 s real time at x20), back after 1 s.
   ChildProcess& scanner_io = start_scanner_io("{resolution: 2}");
   wait_for_discovery();
@@ -223,7 +223,7 @@ TEST_F(ScannerPipeline, ReconnectsAfterUnplugAndScansAgain) {
 // 6.4 s when the device appears; without the look-out the next attempt would come about 5 s
 // later.
 TEST_F(ScannerPipeline, TakesUpAReplugAtOnceWhateverTheBackOff) {
-  use_domain(86);
+  use_domain(91);
   start_scanner_io("{reconnect_min: 0.1, reconnect_max: 30}");
   wait_for_discovery();
   std::this_thread::sleep_for(7s);  // retries at 0.1, 0.3, 0.7, 1.5, 3.1 and 6.3 s; the next at 12.7 s
@@ -254,7 +254,7 @@ TEST_F(ScannerPipeline, TakesUpAReplugAtOnceWhateverTheBackOff) {
 }
 
 TEST_F(ScannerPipeline, DamagedStreamIsCountedNeverFatal) {
-  use_domain(73);
+  use_domain(92);
   sim::PtyDevice device(link_);
   std::string stream = framed("H scanbus-scanner 1 0.1.0");
   for (int line = 0; line < 10; ++line)
@@ -292,11 +292,11 @@ TEST_F(ScannerPipeline, DamagedStreamIsCountedNeverFatal) {
 }
 
 TEST_F(ScannerPipeline, CommandsOverDdsStartAndStopTheScanner) {
-  use_domain(75);
+  use_domain(93);
   start_scanner_io("{autostart: false}");
   wait_for_discovery();
   start_simulator({"--speed", "10"});
-  Participant participant(DdsSettings{"", "localhost", 75}, "scanbus/test_commands");
+  Participant participant(DdsSettings{"", "localhost", 93}, "scanbus/test_commands");
   Writer<scanbus::msg::ScannerCommandPubSubType> commands(participant, topics::kScannerCommand);
   ASSERT_TRUE(commands.wait_for_readers(1, 20s));
   auto send = [&](uint8_t command, uint8_t resolution) {
@@ -330,7 +330,7 @@ TEST_F(ScannerPipeline, CommandsOverDdsStartAndStopTheScanner) {
 }
 
 TEST_F(ScannerPipeline, LegacyThesisStream) {
-  use_domain(74);
+  use_domain(94);
   sim::PtyDevice device(link_);
   std::string stream;
   int lines = 0;

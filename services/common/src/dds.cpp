@@ -1,6 +1,8 @@
 #include "scanbus/dds.hpp"
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/log/Log.hpp>
+#include <fastdds/dds/log/StdoutErrConsumer.hpp>
 
 #include <algorithm>
 #include <cstdlib>
@@ -38,8 +40,36 @@ std::map<std::string, std::string> dds_environment(const DdsSettings& settings) 
           {"SCANBUS_DDS_PROFILE", settings.profile}};
 }
 
+namespace {
+
+// SCANBUS_DDS_LOG=warning (or info, error): Fast DDS's own log from that level on, on
+// stderr (stdout is data for `scanbus echo` and --json); its shared-memory transport says
+// there when it finds a port dead and replaces it, or drops buffers because its segment is
+// full. Unset: Fast DDS's default, errors only.
+void set_middleware_log_level() {
+  static const bool done = [] {
+    const char* level = std::getenv("SCANBUS_DDS_LOG");
+    if (!level) return true;
+    const std::map<std::string, dds::Log::Kind> kinds = {
+        {"error", dds::Log::Kind::Error}, {"warning", dds::Log::Kind::Warning}, {"info", dds::Log::Kind::Info}};
+    const auto kind = kinds.find(level);
+    if (kind == kinds.end())
+      throw ConfigError(std::string("SCANBUS_DDS_LOG: must be error, warning or info, got '") + level + "'");
+    auto to_stderr = std::make_unique<dds::StdoutErrConsumer>();
+    to_stderr->stderr_threshold(dds::Log::Kind::Info);
+    dds::Log::ClearConsumers();
+    dds::Log::RegisterConsumer(std::move(to_stderr));
+    dds::Log::SetVerbosity(kind->second);
+    return true;
+  }();
+  (void)done;
+}
+
+}  // namespace
+
 Participant::Participant(const DdsSettings& settings, const std::string& name,
                          dds::DomainParticipantListener* listener) {
+  set_middleware_log_level();
   auto* factory = dds::DomainParticipantFactory::get_instance();
   dds::DomainParticipantQos qos;
   if (!settings.profile_file.empty()) {
