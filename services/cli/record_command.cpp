@@ -272,6 +272,10 @@ void add_record_commands(CLI::App& app, int& exit_code) {
                       "Readers every replayed topic must have before the first message");
   command->add_option("--wait-timeout", replay.settings.wait_timeout, "Seconds to wait for those readers at most")
       ->check(CLI::NonNegativeNumber);
+  command
+      ->add_option("--linger", replay.settings.linger,
+                   "Seconds to stay after the last message, so that readers behind it can still read it")
+      ->check(CLI::Range(0.0, 600.0));
   command->add_flag("--json", replay.json, "One JSON summary line, no progress");
   add_dds_options(*command, replay.dds);
   on_run(*command, exit_code, [] { return input_errors_exit_2("replay", [] { return run_replay(replay); }); });

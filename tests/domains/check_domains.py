@@ -3,11 +3,14 @@
 domain see each other's participants and topics (a late `scanbus cloud save` may read the
 other test's cloud, a request reach the other test's service).
 
-Reads the domains the tests name: SCANBUS_DOMAIN_ID=N in tests/**/CMakeLists.txt (a
-`math(EXPR domain "B + ${var}")` inside `foreach(var ...)` counts B plus each value), and
-use_domain(N) or DdsSettings/SystemSettings {"", "localhost", N} in tests/**/*.cpp and
-services/**/test/*.cpp. A domain named in two files, or by two use_domain() calls in one
-file, is an error.
+Reads the domains the tests name, one use per test:
+- in tests/**/CMakeLists.txt, each SCANBUS_DOMAIN_ID=N, and for a
+  `foreach(var ...) math(EXPR domain "B + ${var}")` loop, B plus each value;
+- in tests/**/*.cpp and services/**/test/*.cpp, use_domain(N) and {"", "localhost", N}, once
+  per GoogleTest case (TEST, TEST_F: each is a ctest of its own) or per file without cases.
+A domain used by two tests is an error, and so is a domain set in a form this script does
+not read (SCANBUS_DOMAIN_ID=${...} outside such a loop, "localhost" with a non-literal
+domain outside use_domain()), since it could not be checked.
 
     check_domains.py SOURCE_DIR
 """
@@ -17,36 +20,38 @@ import re
 import sys
 
 root = pathlib.Path(sys.argv[1])
-owners = collections.defaultdict(set)  # domain -> files naming it
+users = collections.defaultdict(list)  # domain -> the tests using it
 problems = []
 
-
-def cmake_domains(text):
-    found = [int(n) for n in re.findall(r"SCANBUS_DOMAIN_ID=(\d+)", text)]
-    for values, base in re.findall(r"foreach\(\w+ ([\w ]+)\)\s*math\(EXPR domain \"(\d+) \+", text):
-        found += [int(base) + int(v) for v in values.split()]
-    return found
-
-
 for path in sorted(root.glob("tests/**/CMakeLists.txt")):
-    for domain in cmake_domains(path.read_text()):
-        owners[domain].add(str(path.relative_to(root)))
+    text, name = path.read_text(), str(path.relative_to(root))
+    for n in re.findall(r"SCANBUS_DOMAIN_ID=(\d+)", text):
+        users[int(n)].append(name)
+    loops = re.findall(r"foreach\((\w+) ([\w ]+)\)\s*math\(EXPR domain \"(\d+) \+ \$\{(\w+)\}\"\)", text)
+    for var, values, base, used in loops:
+        if var != used:
+            problems.append(f"{name}: math(EXPR domain) adds ${{{used}}}, not the loop's ${{{var}}}")
+        for v in values.split():
+            users[int(base) + int(v)].append(f"{name} ({var} {v})")
+    if text.count("SCANBUS_DOMAIN_ID=${") != len(loops):
+        problems.append(f"{name}: SCANBUS_DOMAIN_ID set from a variable this check cannot follow")
 
-sources = sorted(root.glob("tests/**/*.cpp")) + sorted(root.glob("services/**/test/*.cpp"))
-for path in sources:
-    text = path.read_text()
-    named = [int(n) for n in re.findall(r"use_domain\((\d+)\)", text)]
-    for domain, count in collections.Counter(named).items():
-        if count > 1:
-            problems.append(f"{path.relative_to(root)}: use_domain({domain}) in {count} tests")
-    named += [int(n) for n in re.findall(r'\{"", "localhost", (\d+)\}', text)]
-    for domain in set(named):
-        owners[domain].add(str(path.relative_to(root)))
+for path in sorted(root.glob("tests/**/*.cpp")) + sorted(root.glob("services/**/test/*.cpp")):
+    text, name = path.read_text(), str(path.relative_to(root))
+    if re.search(r'"localhost", (?!\d+\})', text) and not re.search(r"void use_domain\(int domain\)", text):
+        problems.append(f"{name}: a DDS domain that is not a number this check can read")
+    cases = re.split(r"\n(?=TEST(?:_F|_P)?\()", text)
+    for index, case in enumerate(cases):
+        domains = {int(n) for n in re.findall(r'use_domain\((\d+)\)|\{"", "localhost", (\d+)\}', case) for n in n if n}
+        test = re.match(r"TEST(?:_F|_P)?\((\w+),\s*(\w+)\)", case)
+        label = f"{name} ({test[1]}.{test[2]})" if test else name
+        for domain in domains:
+            users[domain].append(label)
 
-for domain, files in sorted(owners.items()):
-    if len(files) > 1:
-        problems.append(f"domain {domain} is named by {len(files)} files: {', '.join(sorted(files))}")
-print(f"{len(owners)} DDS domains named by tests: {', '.join(str(d) for d in sorted(owners))}")
+for domain, tests in sorted(users.items()):
+    if len(tests) > 1:
+        problems.append(f"domain {domain} is used by {len(tests)} tests: {'; '.join(tests)}")
+print(f"{len(users)} DDS domains used by tests: {', '.join(str(d) for d in sorted(users))}")
 for problem in problems:
     print("FAIL", problem)
-sys.exit(1 if problems or not owners else 0)
+sys.exit(1 if problems or not users else 0)

@@ -53,10 +53,10 @@ with_work() {
 }
 fail() { echo "FAIL $*"; failures=$((failures + 1)); }
 
-# middleware_warnings LOG: Fast DDS's warnings in LOG (SCANBUS_DDS_LOG=warning), each kind
-# once with its count and last time, without the colours.
+# middleware_warnings LOG: Fast DDS's warnings and errors in LOG (SCANBUS_DDS_LOG=warning),
+# each kind once with its count and last time, without the colours.
 middleware_warnings() {
-  sed 's/\x1b\[[0-9;]*m//g' "$1" | grep -E "^[0-9-]+ [0-9:.]+ \[RTPS_" |
+  sed 's/\x1b\[[0-9;]*m//g' "$1" | grep -E "^[0-9-]+ [0-9:.]+ \[[A-Z_]+ (Warning|Error)\]" |
     sed -E 's/^[0-9-]+ ([0-9:.]+) /\1 /; s/\(ID:[0-9]+\) //; s/ -> Function .*//' |
     awk '{ time = $1; $1 = ""; count[$0]++; last[$0] = time } END { for (w in count) printf "Fast DDS, %d times, last %s:%s\n", count[w], last[w], w }'
 }

@@ -3,8 +3,9 @@
 // regenerates the same samples, compares them byte for byte with what arrived, waits
 // for the sender's Health, and exits 0 only when everything matched.
 // `loopback_probe latch` writes the two latched samples (cloud, room) at once, with no
-// reader yet, and stays; `loopback_probe receive-latched` is a late reader of both, as
-// `scanbus cloud save` is of cloud_assembly's map.
+// reader yet, and stays (or streams the cloud for a while, lingers and exits, as a replay
+// does); `loopback_probe receive-latched` is a late reader of both, as `scanbus cloud save`
+// is of cloud_assembly's map.
 #include <cmath>
 #include <cstring>
 #include <iostream>
@@ -120,6 +121,8 @@ class Sender : public Service {
         latched_only_(latched_only),
         points_(static_cast<uint32_t>(context.config.section("probe").integer("points", 1000000, 1, 10000000))),
         rewrite_period_(context.config.section("probe").number("rewrite_period", 0.0, 0.0, 60.0)),
+        stream_for_(context.config.section("probe").number("stream_for", 0.0, 0.0, 600.0)),
+        linger_(context.config.section("probe").number("linger", 0.0, 0.0, 600.0)),
         scan_(context.participant, topics::kScan, QosSettings{true, false, false, 10}),
         cloud_(context.participant, topics::kScannerCloud),
         room_(context.participant, topics::kRoomMeasurement),
@@ -135,10 +138,18 @@ class Sender : public Service {
     sent_ += 2;
     log_->info("latched 2 samples, cloud of {} points ({} bytes)", points_, cloud.data().size());
     if (!written) return 1;
-    // As cloud_assembly does while its map grows: the same cloud again every period.
-    const auto period = std::chrono::milliseconds(static_cast<long>(rewrite_period_ * 1000));
-    while (!StopSignal::wait_for(rewrite_period_ > 0 ? period : std::chrono::milliseconds(1000)))
+    // As cloud_assembly does while its map grows: the same cloud again every period; with
+    // stream_for, for that long, then (as a replay at its end) linger and exit.
+    const auto period = std::chrono::milliseconds(std::max(10L, static_cast<long>(rewrite_period_ * 1000)));
+    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(stream_for_);
+    while (!StopSignal::wait_for(rewrite_period_ > 0 ? period : std::chrono::milliseconds(1000))) {
+      if (stream_for_ > 0 && std::chrono::steady_clock::now() > end) {
+        log_->info("stream ended; lingering {} s", linger_);
+        linger_for_lagging_readers(linger_);
+        return 0;
+      }
       if (rewrite_period_ > 0 && !cloud_.write(cloud)) log_->warn("cloud not written again");
+    }
     return 0;
   }
 
@@ -163,6 +174,8 @@ class Sender : public Service {
   bool latched_only_;
   uint32_t points_;
   double rewrite_period_;  // latch: the cloud written again this often (s), 0 once
+  double stream_for_;      // latch: s of that, then linger_ s and exit; 0 until stopped
+  double linger_;
   Writer<sensor_msgs::msg::LaserScanPubSubType> scan_;
   Writer<sensor_msgs::msg::PointCloud2PubSubType> cloud_;
   Writer<scanbus::msg::RoomMeasurementPubSubType> room_;

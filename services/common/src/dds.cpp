@@ -1,5 +1,7 @@
 #include "scanbus/dds.hpp"
 
+#include "scanbus/service.hpp"
+
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/log/Log.hpp>
 #include <fastdds/dds/log/StdoutErrConsumer.hpp>
@@ -42,7 +44,7 @@ std::map<std::string, std::string> dds_environment(const DdsSettings& settings) 
 
 namespace {
 
-// SCANBUS_DDS_LOG=warning (or info, error): Fast DDS's own log from that level on, on
+// SCANBUS_DDS_LOG=warning (or error): Fast DDS's own log from that level on, on
 // stderr (stdout is data for `scanbus echo` and --json); its shared-memory transport says
 // there when it finds a port dead and replaces it, or drops buffers because its segment is
 // full. Unset: Fast DDS's default, errors only.
@@ -50,11 +52,12 @@ void set_middleware_log_level() {
   static const bool done = [] {
     const char* level = std::getenv("SCANBUS_DDS_LOG");
     if (!level) return true;
-    const std::map<std::string, dds::Log::Kind> kinds = {
-        {"error", dds::Log::Kind::Error}, {"warning", dds::Log::Kind::Warning}, {"info", dds::Log::Kind::Info}};
+    // No "info": Debian's Fast DDS 2.9.1 is built without its info messages.
+    const std::map<std::string, dds::Log::Kind> kinds = {{"error", dds::Log::Kind::Error},
+                                                         {"warning", dds::Log::Kind::Warning}};
     const auto kind = kinds.find(level);
     if (kind == kinds.end())
-      throw ConfigError(std::string("SCANBUS_DDS_LOG: must be error, warning or info, got '") + level + "'");
+      throw ConfigError(std::string("SCANBUS_DDS_LOG: must be error or warning, got '") + level + "'");
     auto to_stderr = std::make_unique<dds::StdoutErrConsumer>();
     to_stderr->stderr_threshold(dds::Log::Kind::Info);
     dds::Log::ClearConsumers();
@@ -222,6 +225,10 @@ dds::DataReader* create_reader(Participant& participant, const std::string& topi
     throw DdsError("cannot create reader on '" + topic + "' (" + describe(qos) +
                    "; under DDS Security: is this identity granted it? scanbus security permissions)");
   return reader;
+}
+
+void linger_for_lagging_readers(double seconds) {
+  if (seconds > 0) StopSignal::wait_for(std::chrono::milliseconds(static_cast<long>(seconds * 1000)));
 }
 
 void delete_writer(Participant& participant, dds::DataWriter* writer) {

@@ -114,11 +114,12 @@ MavFlightResult run_mav_flight(System& system, const MavFlightOptions& options) 
       [&] {
         if (options.progress)
           std::printf("\rMAV flight: pose %zu of %zu", received(), log.lasers.size()), std::fflush(stdout);
+        // The last poses settle once the input has ended, and may still be on their way; the
+        // replay stays a while after its end (linger_for_lagging_readers).
+        if (received() >= log.lasers.size()) return true;
         if (!replay.exited()) return false;
         if (!ended) ended = std::chrono::steady_clock::now();
-        // The last poses settle once the input has ended, and may still be on their way.
-        return received() >= log.lasers.size() ||
-               std::chrono::steady_clock::now() - *ended > std::chrono::duration<double>(kInputEndedAfter + 2);
+        return std::chrono::steady_clock::now() - *ended > std::chrono::duration<double>(kInputEndedAfter + 2);
       },
       options.timeout, "the flight's replay did not end", std::chrono::milliseconds(200));
   if (options.progress) std::printf("\n");

@@ -234,6 +234,7 @@ ReplayResult replay(Participant& participant, const ReplaySettings& settings, st
     if (!writer->wait_for_acknowledgments(std::chrono::seconds(5)))
       log->warn("{}: readers did not acknowledge every sample within 5 s", writer->topic());
   }
+  linger_for_lagging_readers(settings.linger);
   return result;
 }
 

@@ -29,6 +29,7 @@ struct ReplaySettings {
   size_t wait_for_readers = 0;       // readers every replayed topic must have before the first message
   double wait_timeout = 10;          // s to wait for them at most
   double max_gap = 60;               // s a stamp may jump from the previous (ReplayPacer)
+  double linger = 3;                 // s kept alive after the end, for readers behind (linger_for_lagging_readers)
   bool clock = false;  // rt/clock at each message's log time (ros2 bag play --clock), unless the file has one
   uint64_t max_chunk = McapReader::kDefaultMaxRecord;  // bytes one record may take in memory
 };

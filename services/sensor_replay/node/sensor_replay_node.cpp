@@ -21,6 +21,7 @@ struct Settings {
   size_t wait_for_readers;
   double wait_timeout;
   double max_gap;  // s a stamp may jump from its neighbours' (ReplayPacer)
+  double linger;   // s kept alive after the end, for readers behind (linger_for_lagging_readers)
   MavFrames frames;
 };
 
@@ -34,6 +35,7 @@ Settings read_settings(const Config& config) {
   s.wait_for_readers = static_cast<size_t>(config.integer("wait_for_readers", 0, 0, 100));
   s.wait_timeout = config.number("wait_timeout", 10.0, 0.0, 3600.0);
   s.max_gap = config.number("max_gap", 60.0, 0.001, 1e6);
+  s.linger = config.number("linger", 3.0, 0.0, 600.0);
   const Config frames = config.section("frames");
   s.frames.laser = frames.text("laser", s.frames.laser);
   s.frames.base_link = frames.text("base_link", s.frames.base_link);
@@ -81,6 +83,7 @@ class SensorReplay : public Service {
     if (!(acknowledged(scans_) & acknowledged(imus_) & acknowledged(fixes_) & acknowledged(pressures_) &
           acknowledged(truths_)))
       log_->warn("readers did not acknowledge every sample within 5 s of the replay's end");
+    linger_for_lagging_readers(settings_.linger);
     return 0;
   }
 
