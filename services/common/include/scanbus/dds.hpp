@@ -113,14 +113,15 @@ eprosima::fastdds::dds::DataReader* create_reader(Participant& participant, cons
                                                   eprosima::fastdds::dds::TopicDataType* type, const QosSettings& qos,
                                                   eprosima::fastdds::dds::DataReaderListener* listener);
 void delete_writer(Participant& participant, eprosima::fastdds::dds::DataWriter* writer);
+void delete_reader(Participant& participant, eprosima::fastdds::dds::DataReader* reader);
 
 // Waits `seconds` (less on a stop signal) before a process that wrote a stream exits.
 // Fast DDS 2.9.1 (Debian's) leaves a reader deaf for good when it comes, after the writing
 // process has exited, to a sample that process put in shared memory: the writer's segment
 // is gone, and the reader retries that sample forever, behind it everything else (fixed
-// upstream in 2.12). Readers lagging behind the stream read it all while the segment lives.
+// upstream in 2.6.6, 2.10.2, 2.11.2 and 2.12, not in 2.9; docs/architecture.md). Readers
+// lagging behind the stream read it all while the segment lives.
 void linger_for_lagging_readers(double seconds);
-void delete_reader(Participant& participant, eprosima::fastdds::dds::DataReader* reader);
 
 template <class PubSubType>
 class Writer {
