@@ -17,12 +17,11 @@
 #include "scanbus/room_evaluation/room_evaluation.hpp"
 #include "scanbus/room_plan/floor_plan.hpp"
 #include "scanbus/sim/room_file.hpp"
+#include "scanbus/units.hpp"
 
 namespace scanbus::cli {
 
 namespace {
-
-constexpr double kDegree = M_PI / 180;
 
 struct EvalRoomsOptions {
   room_evaluation::SweepOptions sweep;

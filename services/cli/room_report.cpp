@@ -6,14 +6,13 @@
 #include <iostream>
 
 #include "room_measurement_node.hpp"
+#include "scanbus/units.hpp"
 
 namespace scanbus::cli {
 
 using room_measurement::RoomResult;
 
 namespace {
-
-constexpr double kDegree = M_PI / 180;
 
 nlohmann::json device_json(const room_measurement::DeviceEstimate& device) {
   nlohmann::json out = {{"state", room_measurement::device_state_name(device.state)}};

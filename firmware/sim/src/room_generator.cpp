@@ -7,11 +7,11 @@
 #include <optional>
 #include <stdexcept>
 
+#include "scanbus/units.hpp"
+
 namespace scanbus::sim {
 
 namespace {
-
-constexpr double kDegree = M_PI / 180;
 
 class Draw {
  public:

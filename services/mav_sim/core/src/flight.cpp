@@ -12,6 +12,8 @@
 #include <random>
 #include <stdexcept>
 
+#include "scanbus/units.hpp"
+
 namespace scanbus::mav_sim {
 
 namespace {
@@ -19,7 +21,6 @@ namespace {
 using transforms::from_rpy;
 
 constexpr double kGravity = 9.81;
-constexpr double kDegree = M_PI / 180;
 
 double wave(double amplitude, double period, double t, double phase = 0) {
   return amplitude * std::sin(2 * M_PI * t / period + phase);

@@ -9,11 +9,11 @@
 #include "scanbus/atmosphere.hpp"
 #include "scanbus/pose_estimation/laser_height.hpp"
 #include "scanbus/pose_estimation/scan_plane_calibration.hpp"
+#include "scanbus/units.hpp"
 
 namespace scanbus::pose_estimation {
 
 PoseEstimatorSettings pose_estimator_settings_from_config(const Config& section) {
-  constexpr double kDegree = M_PI / 180;
   PoseEstimatorSettings s;
   const auto origin = section.numbers("origin", 3);
   if (std::abs(origin[0]) > 90 || std::abs(origin[1]) > 180)

@@ -8,13 +8,12 @@
 #include "scanbus/config.hpp"
 #include "scanbus/pose_estimation/pose_estimator.hpp"
 #include "scanbus/transforms/transform_buffer.hpp"
+#include "scanbus/units.hpp"
 
 using namespace scanbus;
 using namespace scanbus::pose_estimation;
 
 namespace {
-
-constexpr double kDegree = M_PI / 180;
 
 // A MAV hovering 3 m over the plane z = slope . (x, y), drifting a few centimetres and turning
 // once in 18 s; its laser mounted as drawn (looking down, scan plane across the body) but

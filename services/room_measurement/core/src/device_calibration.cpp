@@ -9,11 +9,12 @@
 #include <stdexcept>
 #include <string>
 
+#include "scanbus/units.hpp"
+
 namespace scanbus::room_measurement {
 
 namespace {
 
-constexpr double kDegree = M_PI / 180;
 constexpr double kChiSquareMedian = 2.366;   // of a chi-square with 3 degrees of freedom
 constexpr double kChiSquareOutlier = 16.27;  // its 99.9 % point
 

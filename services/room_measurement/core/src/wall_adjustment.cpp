@@ -9,11 +9,11 @@
 #include <random>
 #include <stdexcept>
 
+#include "scanbus/units.hpp"
+
 namespace scanbus::room_measurement {
 
 namespace {
-
-constexpr double kDegree = M_PI / 180;
 
 constexpr size_t kDeviceTerms = 5;  // range bias, lever arm, pitch offset, yaw error's sine and cosine
 constexpr double kHeld = 1e12;      // prior weight that holds an unknown where it is

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <unordered_set>
 
+#include "scanbus/units.hpp"
+
 namespace scanbus::scan_matcher {
 
 namespace {
@@ -338,7 +340,6 @@ MatchResult ScanMatcher::best_alignment(const std::vector<Eigen::Vector2d>& poin
   const bool converged = best.quality == MatchQuality::Ok &&
                          (typical_residual_ == 0 || best.residual < settings_.suspicious_residual * typical_residual_);
   if (converged) return best;
-  constexpr double kDegree = M_PI / 180;
   std::vector<Pose2> motions = {last_increment_, Pose2{}};
   for (const double turn : {-30.0, -20.0, -10.0, 10.0, 20.0, 30.0})
     motions.push_back({guess.x, guess.y, Pose2::normalize(guess.theta + turn * kDegree)});
@@ -369,7 +370,6 @@ void ScanMatcher::add_keyframe(std::vector<Eigen::Vector2d> points) {
 namespace scanbus::scan_matcher {
 
 MatcherSettings matcher_settings_from_config(const Config& section) {
-  constexpr double kDegree = M_PI / 180;
   MatcherSettings s;
   s.range_min = section.number("range_min", s.range_min, 0, 1000);
   s.range_max = section.number("range_max", s.range_max, 0, 1000);
