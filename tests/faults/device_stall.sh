@@ -9,16 +9,6 @@ set -uo pipefail
 source "$(dirname "$0")/../integration/lib.sh"
 scanbus=$1
 with_work KILL
-SECONDS=0
-
-# wait_for FILE PATTERN SECONDS
-wait_for() {
-  local deadline=$((SECONDS + $3))
-  until grep -q "$2" "$1" 2> /dev/null; do
-    [ "$SECONDS" -ge "$deadline" ] && return 1
-    sleep 0.2
-  done
-}
 
 "$scanbus" sim scanner --speed 10 --link "$work/tty" > "$work/sim.log" 2>&1 &
 sim=$!
@@ -55,7 +45,7 @@ PY
 
 kill -CONT "$sim"
 echo "simulator resumed (SIGCONT)"
-if wait_for "$work/scanner_io.log" "scan complete" 90; then
+if wait_for_line "$work/scanner_io.log" "scan complete" 90; then
   echo "ok   a whole scan completed after the device spoke again ($(grep -m1 -o 'scan complete: [0-9]* points' "$work/scanner_io.log"))"
 else
   fail "no whole scan within 90 s of the device resuming"; tail -20 "$work/scanner_io.log" "$work/sim.log"

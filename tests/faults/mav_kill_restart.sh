@@ -71,8 +71,7 @@ grows "$work/poses.jsonl" 100 30 && echo "ok   poses resumed after pose_estimati
 others_alive pose_estimation
 # The scans between the killed process's last settled pose and the new one's first are dropped
 # with the gap named (max_pose_gap), not placed on a straight line across the restart.
-for _ in $(seq 150); do grep -q 'falls in a gap.*"service":"cloud_assembly"' "$work/health.jsonl" && break; sleep 0.2; done
-grep -q 'falls in a gap.*"service":"cloud_assembly"' "$work/health.jsonl" &&
+wait_for_line "$work/health.jsonl" 'falls in a gap.*"service":"cloud_assembly"' 30 &&
   echo "ok   cloud_assembly dropped the scans in the poses' gap: $(grep -m1 -o "stamp [^\"]* interpolated)" "$work/health.jsonl")" ||
   { fail "cloud_assembly did not name the poses' gap across pose_estimation's restart"; grep cloud_assembly "$work/health.jsonl" | tail -2; }
 

@@ -31,10 +31,7 @@ start_bridge() {
   bridge_pid=$!
   pids+=("$bridge_pid")
   url=ws://127.0.0.1:$port
-  for _ in $(seq 100); do
-    grep -q "Foxglove WebSocket server on" "$work/bridge.log" && return 0
-    sleep 0.1
-  done
+  wait_for_line "$work/bridge.log" "Foxglove WebSocket server on" 10 && return 0
   echo "FAIL: the bridge is not listening after 10 s:"; cat "$work/bridge.log"; exit 1
 }
 

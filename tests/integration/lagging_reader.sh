@@ -21,11 +21,9 @@ printf 'probe:\n  points: 100\n  rewrite_period: 0.01\n  stream_for: 2\n  linger
 "$probe" latch --config "$work/stream.yaml" > "$work/stream.log" 2>&1 &
 pids+=($!)
 # Frozen once the stream reaches it (the sender's segment then mapped, as a service's is).
-for _ in $(seq 100); do [ -s "$work/echo.out" ] && break; sleep 0.1; done
-[ -s "$work/echo.out" ] || fail "the reader got nothing from the stream in 10 s"
+wait_for_line "$work/echo.out" . 10 || fail "the reader got nothing from the stream in 10 s"
 kill -STOP "$reader"
-for _ in $(seq 100); do grep -q "stream ended" "$work/stream.log" && break; sleep 0.1; done
-grep -q "stream ended" "$work/stream.log" || fail "the stream did not end in 10 s"
+wait_for_line "$work/stream.log" "stream ended" 10 || fail "the stream did not end in 10 s"
 sleep 7
 kill -CONT "$reader"
 sleep 2

@@ -15,8 +15,7 @@ for rewrite in 0 0.5; do
   "$probe" latch --config "$work/sender.yaml" > "$work/sender.log" 2>&1 &
   sender=$!
   pids=($sender)
-  for _ in $(seq 100); do grep -q "latched 2 samples" "$work/sender.log" && break; sleep 0.1; done
-  grep -q "latched 2 samples" "$work/sender.log" || { fail "sender wrote nothing in 10 s"; cat "$work/sender.log"; }
+  wait_for_line "$work/sender.log" "latched 2 samples" 10 || { fail "sender wrote nothing in 10 s"; cat "$work/sender.log"; }
   written="written once"; [ "$rewrite" = 0 ] || written="written every $rewrite s"
   for reader in 1 2; do
     started=$(date +%s%N)

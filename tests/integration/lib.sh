@@ -53,6 +53,16 @@ with_work() {
 }
 fail() { echo "FAIL $*"; failures=$((failures + 1)); }
 
+# wait_for_line FILE PATTERN SECONDS: until FILE has a line matching PATTERN (grep -E);
+# returns 1 when SECONDS pass first.
+wait_for_line() {
+  local deadline=$(($(date +%s) + $3))
+  until grep -q -E -- "$2" "$1" 2> /dev/null; do
+    [ "$(date +%s)" -ge "$deadline" ] && return 1
+    sleep 0.1
+  done
+}
+
 # middleware_warnings LOG: Fast DDS's warnings and errors in LOG (SCANBUS_DDS_LOG=warning),
 # each kind once with its count and last time, without the colours.
 middleware_warnings() {
