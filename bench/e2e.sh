@@ -11,7 +11,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 repetitions=${1:-5} seconds=${2:-5} revolutions=${3:-1000}
 scripts/build.sh > /dev/null
-export SCANBUS_DOMAIN_ID=${SCANBUS_DOMAIN_ID:-80}
+export SCANBUS_DOMAIN_ID=${SCANBUS_DOMAIN_ID:-110}
 results=$(mktemp)
 trap 'rm -f "$results"' EXIT
 bench=build/bench/dds_e2e_bench

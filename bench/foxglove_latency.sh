@@ -11,7 +11,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-20}
 points=${2:-1000000}
 scripts/build.sh scanbus recording_publisher > /dev/null
-export SCANBUS_DOMAIN_ID=${SCANBUS_DOMAIN_ID:-89}
+export SCANBUS_DOMAIN_ID=${SCANBUS_DOMAIN_ID:-112}
 source tests/foxglove/lib.sh
 foxglove_test_setup
 start_bridge build/services/cli/scanbus

@@ -11,7 +11,7 @@ seconds=${1:-20}
 scripts/build.sh > /dev/null
 work=$(mktemp -d)
 trap 'jobs -p | xargs -r kill -9 2>/dev/null || true; rm -rf "$work"' EXIT
-export SCANBUS_DOMAIN_ID=${SCANBUS_DOMAIN_ID:-80}
+export SCANBUS_DOMAIN_ID=${SCANBUS_DOMAIN_ID:-111}
 ticks=$(getconf CLK_TCK)
 printf "%-12s %10s %10s %10s %12s %10s\n" compression published recorded "MB/s" "file share" "CPU share"
 for compression in none lz4 zstd; do

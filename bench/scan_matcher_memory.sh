@@ -14,7 +14,7 @@ rate=${1:-100} map_keyframes=${2:-}
 log=../shared/data/freiburg/mit-killian.clf
 [ -f "$log" ] || { echo "SKIP: $log not found"; exit 77; }
 scripts/build.sh scanbus > /dev/null
-export SCANBUS_DOMAIN_ID=${SCANBUS_DOMAIN_ID:-89}
+export SCANBUS_DOMAIN_ID=${SCANBUS_DOMAIN_ID:-113}
 scanbus=$PWD/build/services/cli/scanbus
 work=$(mktemp -d)
 cleanup() { jobs -p | xargs -r kill -TERM 2> /dev/null || true; wait 2> /dev/null || true; rm -rf "$work"; }

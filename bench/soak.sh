@@ -28,7 +28,7 @@ faults=false
 [ "${1:-}" = --faults ] && { faults=true; shift; }
 minutes=${1:-10} period=${2:-30} unplug_for=${UNPLUG_FOR:-3}
 scripts/build.sh scanbus soak_monitor > /dev/null
-export SCANBUS_DOMAIN_ID=${SCANBUS_DOMAIN_ID:-87}
+export SCANBUS_DOMAIN_ID=${SCANBUS_DOMAIN_ID:-114}
 $faults && export SCANBUS_DDS_PROFILE_FILE=$PWD/config/dds/localhost_udp.xml
 scanbus=$PWD/build/services/cli/scanbus
 work=$(mktemp -d)

@@ -7,7 +7,9 @@ Reads the domains the tests name, one use per test:
 - in tests/**/CMakeLists.txt, each SCANBUS_DOMAIN_ID=N, and for a
   `foreach(var ...) math(EXPR domain "B + ${var}")` loop, B plus each value;
 - in tests/**/*.cpp and services/**/test/*.cpp, use_domain(N) and {"", "localhost", N}, once
-  per GoogleTest case (TEST, TEST_F: each is a ctest of its own) or per file without cases.
+  per GoogleTest case (TEST, TEST_F: each is a ctest of its own) or per file without cases;
+- in bench/*.sh, each default ${SCANBUS_DOMAIN_ID:-N}, so a benchmark run beside the tests
+  meets none of them.
 A domain used by two tests is an error, and so is a domain set in a form this script does
 not read (SCANBUS_DOMAIN_ID=${...} outside such a loop, "localhost" with a non-literal
 domain outside use_domain()), since it could not be checked. Not read: a domain set in a
@@ -54,10 +56,16 @@ for path in sorted(root.glob("tests/**/*.cpp")) + sorted(root.glob("services/**/
         for domain in domains:
             users[domain].append(label)
 
+# The benchmarks' default domains: a bench run beside ctest must not meet a test.
+for path in sorted(root.glob("bench/*.sh")):
+    name = str(path.relative_to(root))
+    for n in re.findall(r"SCANBUS_DOMAIN_ID:-(\d+)\}", path.read_text()):
+        users[int(n)].append(f"{name} (its default)")
+
 for domain, tests in sorted(users.items()):
     if len(tests) > 1:
         problems.append(f"domain {domain} is used by {len(tests)} tests: {'; '.join(tests)}")
-print(f"{len(users)} DDS domains used by tests: {', '.join(str(d) for d in sorted(users))}")
+print(f"{len(users)} DDS domains used by tests and benchmarks: {', '.join(str(d) for d in sorted(users))}")
 for problem in problems:
     print("FAIL", problem)
 sys.exit(1 if problems or not users else 0)
