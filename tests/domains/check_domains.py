@@ -59,12 +59,12 @@ for path in sorted(root.glob("tests/**/*.cpp")) + sorted(root.glob("services/**/
 # The benchmarks' default domains: a bench run beside ctest must not meet a test.
 for path in sorted(root.glob("bench/*.sh")):
     name = str(path.relative_to(root))
-    for n in re.findall(r"SCANBUS_DOMAIN_ID:-(\d+)\}", path.read_text()):
+    for n in set(re.findall(r"SCANBUS_DOMAIN_ID:-(\d+)\}", path.read_text())):
         users[int(n)].append(f"{name} (its default)")
 
 for domain, tests in sorted(users.items()):
     if len(tests) > 1:
-        problems.append(f"domain {domain} is used by {len(tests)} tests: {'; '.join(tests)}")
+        problems.append(f"domain {domain} is used {len(tests)} times: {'; '.join(tests)}")
 print(f"{len(users)} DDS domains used by tests and benchmarks: {', '.join(str(d) for d in sorted(users))}")
 for problem in problems:
     print("FAIL", problem)

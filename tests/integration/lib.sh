@@ -54,11 +54,11 @@ with_work() {
 fail() { echo "FAIL $*"; failures=$((failures + 1)); }
 
 # wait_for_line FILE PATTERN SECONDS: until FILE has a line matching PATTERN (grep -E);
-# returns 1 when SECONDS pass first.
+# returns 1 when SECONDS (whole) pass first.
 wait_for_line() {
-  local deadline=$(($(date +%s) + $3))
+  local tries=$(($3 * 10))
   until grep -q -E -- "$2" "$1" 2> /dev/null; do
-    [ "$(date +%s)" -ge "$deadline" ] && return 1
+    [ $((tries--)) -gt 0 ] || return 1
     sleep 0.1
   done
 }
